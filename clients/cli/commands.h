@@ -1,0 +1,11 @@
+#pragma once
+// The subcommands of `hexcover`. Each returns the process exit status:
+// 0 success, 1 bad input (one clear line on stderr), 2 bad usage.
+// Each lives in its own <name>_command.cpp and is listed in main.cpp.
+
+namespace hexcover::cli {
+
+/// A subcommand: argv[0] is the program, argv[1] the subcommand name, arguments from argv[2].
+using Command = int (*)(int argc, char** argv);
+
+}  // namespace hexcover::cli

@@ -1,0 +1,65 @@
+// hexcover: command-line front end of the remeshing library.
+
+#include <cstring>
+#include <iostream>
+#include <string_view>
+
+#include "clients/cli/arguments.h"
+#include "clients/cli/commands.h"
+#include "core/common/error.h"
+
+namespace hexcover::cli {
+namespace {
+
+struct Subcommand {
+  std::string_view name;
+  std::string_view synopsis;
+  Command run;
+};
+
+int printVersion(int, char**) {
+  std::cout << "hexcover 0.1.0\n";
+  return 0;
+}
+
+// One row per subcommand; each is implemented in <name>_command.cpp.
+constexpr Subcommand kSubcommands[] = {
+    {"version", "version", printVersion},
+};
+
+int printUsage(std::ostream& out) {
+  out << "usage: hexcover <command> [arguments]\n\ncommands:\n";
+  for (const auto& sub : kSubcommands) out << "  " << sub.synopsis << "\n";
+  return 2;
+}
+
+}  // namespace
+}  // namespace hexcover::cli
+
+int main(int argc, char** argv) {
+  using namespace hexcover::cli;
+  if (argc < 2) return printUsage(std::cerr);
+  const std::string_view name = argv[1];
+  if (name == "--help" || name == "-h" || name == "help") {
+    printUsage(std::cout);
+    return 0;
+  }
+  for (const auto& sub : kSubcommands) {
+    if (sub.name != name) continue;
+    try {
+      return sub.run(argc, argv);
+    } catch (const UsageError& e) {
+      std::cerr << "hexcover " << name << ": " << e.what() << "\nusage: hexcover " << sub.synopsis
+                << "\n";
+      return 2;
+    } catch (const hexcover::Error& e) {
+      std::cerr << "hexcover " << name << ": " << e.what() << "\n";
+      return 1;
+    } catch (const std::exception& e) {
+      std::cerr << "hexcover " << name << ": internal error: " << e.what() << "\n";
+      return 1;
+    }
+  }
+  std::cerr << "hexcover: unknown command '" << name << "'\n";
+  return printUsage(std::cerr);
+}

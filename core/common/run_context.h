@@ -1,0 +1,27 @@
+#pragma once
+// Progress reporting and cooperative cancellation for long-running stages.
+// Knows nothing about jobs or HTTP: the server, the CLI and tests all fill it in their own way.
+
+#include <functional>
+#include <string_view>
+
+#include "core/common/error.h"
+
+namespace hexcover {
+
+struct RunContext {
+  /// Called with the stage name and the fraction of that stage done, in [0, 1]. May be empty.
+  std::function<void(std::string_view stage, double fraction)> progress;
+  /// Returns true when the caller wants the run to stop. May be empty.
+  std::function<bool()> cancelRequested;
+
+  void report(std::string_view stage, double fraction) const {
+    if (progress) progress(stage, fraction);
+  }
+  /// Throws Error(Canceled) when cancellation was requested; call between and inside long steps.
+  void throwIfCanceled() const {
+    if (cancelRequested && cancelRequested()) throw Error(ErrorCode::Canceled, "the run was canceled");
+  }
+};
+
+}  // namespace hexcover

@@ -1,0 +1,131 @@
+#include "core/mesh/primitives.h"
+
+#include <array>
+#include <cmath>
+#include <map>
+#include <utility>
+
+namespace hexcover {
+namespace {
+
+using VH = TriMesh::VertexHandle;
+
+TriMesh::Point point(double x, double y, double z) { return {x, y, z}; }
+
+}  // namespace
+
+TriMesh makeIcosphere(int subdivisions, double radius) {
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  std::vector<Eigen::Vector3d> positions = {
+      {-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+      {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<std::array<int, 3>> faces = {
+      {0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+      {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
+      {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+  for (auto& p : positions) p.normalize();
+  for (int s = 0; s < subdivisions; ++s) {
+    std::map<std::pair<int, int>, int> midpoints;
+    const auto midpoint = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      const auto [it, inserted] = midpoints.try_emplace(key, static_cast<int>(positions.size()));
+      if (inserted) positions.push_back((positions[a] + positions[b]).normalized());
+      return it->second;
+    };
+    std::vector<std::array<int, 3>> refined;
+    refined.reserve(4 * faces.size());
+    for (const auto& [a, b, c] : faces) {
+      const int ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
+      refined.push_back({a, ab, ca});
+      refined.push_back({b, bc, ab});
+      refined.push_back({c, ca, bc});
+      refined.push_back({ab, bc, ca});
+    }
+    faces = std::move(refined);
+  }
+  TriMesh mesh;
+  std::vector<VH> handles;
+  handles.reserve(positions.size());
+  for (const auto& p : positions) handles.push_back(mesh.add_vertex(toOpenMesh(radius * p)));
+  for (const auto& [a, b, c] : faces) mesh.add_face(handles[a], handles[b], handles[c]);
+  return mesh;
+}
+
+TriMesh makeTorus(double majorRadius, double minorRadius, int around, int tube) {
+  TriMesh mesh;
+  std::vector<VH> handles;
+  handles.reserve(static_cast<std::size_t>(around) * tube);
+  for (int i = 0; i < around; ++i) {
+    const double a = 2.0 * M_PI * i / around;
+    for (int j = 0; j < tube; ++j) {
+      const double b = 2.0 * M_PI * j / tube;
+      const double ring = majorRadius + minorRadius * std::cos(b);
+      handles.push_back(
+          mesh.add_vertex(point(ring * std::cos(a), ring * std::sin(a), minorRadius * std::sin(b))));
+    }
+  }
+  const auto at = [&](int i, int j) { return handles[(i % around) * tube + (j % tube)]; };
+  for (int i = 0; i < around; ++i) {
+    for (int j = 0; j < tube; ++j) {
+      // (i, j) -> (i+1, j) runs along the major circle, (i, j) -> (i, j+1) around the tube;
+      // this winding gives outward normals.
+      mesh.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+      mesh.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+    }
+  }
+  return mesh;
+}
+
+TriMesh makeTube(double radius, double height, int around, int rings) {
+  TriMesh mesh;
+  std::vector<VH> handles;
+  handles.reserve(static_cast<std::size_t>(around) * rings);
+  for (int k = 0; k < rings; ++k) {
+    const double z = rings > 1 ? height * k / (rings - 1) : 0.0;
+    const double offset = (k % 2) * 0.5;
+    for (int i = 0; i < around; ++i) {
+      const double a = 2.0 * M_PI * (i + offset) / around;
+      handles.push_back(mesh.add_vertex(point(radius * std::cos(a), radius * std::sin(a), z)));
+    }
+  }
+  const auto at = [&](int k, int i) { return handles[k * around + (i % around)]; };
+  for (int k = 0; k + 1 < rings; ++k) {
+    for (int i = 0; i < around; ++i) {
+      if (k % 2 == 0) {  // the upper ring is shifted forward by half a step
+        mesh.add_face(at(k, i), at(k, i + 1), at(k + 1, i));
+        mesh.add_face(at(k, i + 1), at(k + 1, i + 1), at(k + 1, i));
+      } else {  // the lower ring is shifted forward
+        mesh.add_face(at(k, i), at(k + 1, i + 1), at(k + 1, i));
+        mesh.add_face(at(k, i), at(k, i + 1), at(k + 1, i + 1));
+      }
+    }
+  }
+  return mesh;
+}
+
+TriMesh makeEquilateralGrid(int columns, int rows, double edge) {
+  TriMesh mesh;
+  std::vector<VH> handles;
+  handles.reserve(static_cast<std::size_t>(columns) * rows);
+  const double rowHeight = edge * std::sqrt(3.0) / 2.0;
+  for (int r = 0; r < rows; ++r) {
+    const double offset = (r % 2) * 0.5 * edge;
+    for (int c = 0; c < columns; ++c)
+      handles.push_back(mesh.add_vertex(point(offset + c * edge, r * rowHeight, 0.0)));
+  }
+  const auto at = [&](int r, int c) { return handles[r * columns + c]; };
+  for (int r = 0; r + 1 < rows; ++r) {
+    for (int c = 0; c + 1 < columns; ++c) {
+      if (r % 2 == 0) {  // the row above is shifted right
+        mesh.add_face(at(r, c), at(r, c + 1), at(r + 1, c));
+        mesh.add_face(at(r, c + 1), at(r + 1, c + 1), at(r + 1, c));
+      } else {  // this row is shifted right
+        mesh.add_face(at(r, c), at(r + 1, c + 1), at(r + 1, c));
+        mesh.add_face(at(r, c), at(r, c + 1), at(r + 1, c + 1));
+      }
+    }
+  }
+  return mesh;
+}
+
+}  // namespace hexcover

@@ -1,0 +1,27 @@
+#pragma once
+// Meshes that the project generates itself: test shapes with known answers and the example mesh
+// that scripts/run uses. All are manifold, consistently oriented (outward normals) and clean.
+
+#include "core/mesh/mesh.h"
+
+namespace hexcover {
+
+/// Icosahedron subdivided `subdivisions` times (1-to-4 splits), vertices projected to the sphere.
+/// 20·4^s faces; vertices of valence 5 at the 12 icosahedron corners, 6 elsewhere. χ = 2.
+TriMesh makeIcosphere(int subdivisions, double radius = 1.0);
+
+/// Torus with major radius R, minor radius r, a `around` × `tube` grid of quads each split along
+/// the same diagonal: every vertex has valence 6. χ = 0.
+TriMesh makeTorus(double majorRadius, double minorRadius, int around, int tube);
+
+/// Open cylinder (a tube, two boundary loops) of the given radius and height along z, with
+/// `around` vertices per ring and `rings` rings; alternate rings are offset by half a step so
+/// that triangles are close to equilateral when height/(rings-1) ≈ √3/2 · 2πr/around. χ = 0.
+TriMesh makeTube(double radius, double height, int around, int rings);
+
+/// Planar patch of equilateral triangles with unit-free edge length `edge`, `columns` × `rows`
+/// vertices in the z = 0 plane (rows offset by half an edge): all angles are 60°. One boundary
+/// loop, χ = 1.
+TriMesh makeEquilateralGrid(int columns, int rows, double edge = 1.0);
+
+}  // namespace hexcover

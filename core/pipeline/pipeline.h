@@ -1,0 +1,54 @@
+#pragma once
+// The one entry point of the geometry library (paper sections 3-5):
+// repair -> 6-RoSy field -> HexCover parameterization -> extraction -> metrics.
+// The server, the CLI and the tests all call remesh(); it knows nothing about jobs or HTTP.
+
+#include <cstddef>
+#include <optional>
+
+#include "core/common/run_context.h"
+#include "core/common/timings.h"
+#include "core/extract/extract.h"
+#include "core/field/rosy_field.h"
+#include "core/mesh/mesh.h"
+#include "core/mesh/report.h"
+#include "core/metrics/metrics.h"
+
+namespace hexcover {
+
+enum class Sizing { Uniform, Curvature };
+
+struct RemeshOptions {
+  /// Target edge length in model units. At most one of edgeLength and targetVertices is set;
+  /// with neither, the target is a quarter of the input's vertex count.
+  std::optional<double> edgeLength;
+  /// Target number of output vertices (the result is within 10% of it).
+  std::optional<long long> targetVertices;
+  /// 6: triangles (Eisenstein lattice); 4: quads (Gauss lattice).
+  int rosy = 6;
+  Sizing sizing = Sizing::Uniform;
+  /// Singularity clustering distance d_sing; default derived from the edge length (paper 5.2).
+  std::optional<double> dSing;
+  /// Inputs with more faces are refused (ErrorCode::LimitExceeded).
+  std::size_t maxFaces = 5'000'000;
+
+  /// Throws Error(InvalidOption) naming the first bad option.
+  void validate() const;
+};
+
+struct RemeshResult {
+  MeshReport inputReport;      ///< validation and repair of the input
+  Remesh remesh;               ///< triangle mesh, hexagonal dual, extraction report
+  PolygonSoup textured;        ///< the repaired input with per-corner texture coordinates
+  std::vector<Singularity> singularities;
+  QualityReport metrics;       ///< the remesh measured against the repaired input
+  Timings timings;             ///< per stage
+  double peakMemoryMiB = 0.0;
+};
+
+/// Remeshes `input`. Throws Error: InvalidMesh/LimitExceeded for refused input, InvalidOption,
+/// NumericalFailure, Canceled when context.cancelRequested() turned true.
+RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
+                    const RunContext& context = {});
+
+}  // namespace hexcover
