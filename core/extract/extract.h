@@ -1,0 +1,105 @@
+#pragma once
+// Extraction of the triangle remesh and its hexagonal dual from a HexCover parameterization
+// (paper section 5.2).
+//
+// The output vertices are the lattice points (a, b) ∈ Z² (the Eisenstein integers of eq. (3) in
+// lattice coordinates) that the parameterization maps onto the surface; the output triangles are
+// the lattice's unit triangles {(a,b), (a+1,b), (a,b+1)} and {(a+1,b), (a+1,b+1), (a,b+1)},
+// connected across cut edges through the transitions of eq. (2). Around a singularity of index
+// ±1/6 the lattice closes up with 5 or 7 triangles, so irregular vertices appear only there.
+//
+// Steps:
+// 1. Sanitize: every edge's transition is recomputed from the corner coordinates; corner
+//    coordinates are snapped to a fixed-point grid (2^-24 lattice units) on which the integer
+//    transitions hold exactly, and every singular vertex is put exactly on its holonomy's fixed
+//    point. All later predicates are exact integer arithmetic on that grid.
+// 2. Lattice points: for each parameter triangle, the integer points in its closed triangle; a
+//    point on an edge or a vertex is shared with the neighbouring triangles (through the
+//    transitions), so each is emitted exactly once, at its barycentric position on the surface.
+// 3. Triangles: each unit lattice triangle is emitted by the parameter triangle that contains its
+//    centroid (a+⅓, b+⅓) / (a+⅔, b+⅔); its corners are found by walking from the centroid across
+//    parameter triangles (applying transitions). Triangles whose walk leaves the surface are cut by
+//    the boundary; walks through flipped or degenerate parameter triangles are coverage gaps.
+// 4. Repair: triangles covered more than once are dropped after the first; holes that do not
+//    touch the input boundary (coverage gaps near folds or singularities) are filled locally.
+// 5. Boundary (BoundaryMode::Follow): lattice vertices closer than `boundarySnapDistance` edge
+//    lengths to the input boundary are removed, each input boundary loop is resampled at the
+//    local edge length (keeping corners sharper than `sharpBoundaryAngle`) and the strip between
+//    it and the lattice front is triangulated, so the output boundary lies on the input boundary.
+// 6. Components of the input on which no lattice triangle fits are copied unchanged.
+
+#include <vector>
+
+#include "core/common/run_context.h"
+#include "core/common/timings.h"
+#include "core/mesh/mesh.h"
+#include "core/param/parameterization.h"
+
+namespace hexcover {
+
+enum class BoundaryMode {
+  Follow,   ///< output boundary loops lie on the input boundary loops (the remeshing default)
+  Lattice,  ///< keep the jagged lattice boundary: only unit lattice triangles (pattern tiling)
+};
+
+struct ExtractOptions {
+  BoundaryMode boundary = BoundaryMode::Follow;
+  /// Lattice vertices closer than this many local edge lengths to the input boundary are
+  /// replaced by boundary samples (Follow mode). In (0, 1).
+  double boundarySnapDistance = 0.5;
+  /// Boundary vertices of the input whose boundary turns by more than this many degrees are kept
+  /// as output vertices (sharp corners). In [0, 180].
+  double sharpBoundaryAngle = 30.0;
+
+  /// Throws Error(InvalidOption) naming the first bad option.
+  void validate() const;
+};
+
+/// What extraction found and repaired. Counts are over the whole mesh.
+struct ExtractionReport {
+  long long latticePoints = 0;        ///< lattice points emitted (each exactly once)
+  long long latticeTriangles = 0;     ///< unit lattice triangles emitted
+  long long boundaryClipped = 0;      ///< lattice triangles dropped because they leave the surface
+  long long boundarySnapped = 0;      ///< lattice vertices removed near the input boundary
+  long long boundarySamples = 0;      ///< vertices placed on the input boundary
+  long long stripTriangles = 0;       ///< triangles between the lattice front and the boundary
+  long long flippedParamTriangles = 0;     ///< parameter triangles with negative orientation
+  long long degenerateParamTriangles = 0;  ///< parameter triangles with zero area
+  long long transitionsCorrected = 0;  ///< edges whose given transition disagreed with the coords
+  long long inconsistentVertices = 0;  ///< vertices whose transitions do not close up (not seamless)
+  long long uncoveredTriangles = 0;    ///< lattice triangles whose walk met a fold (coverage gaps)
+  long long overlappingTriangles = 0;  ///< lattice triangles covered more than once, dropped
+  long long degenerateTriangles = 0;   ///< lattice triangles with repeated corners, dropped
+  long long holesFilled = 0;           ///< interior holes (coverage gaps) closed locally
+  long long holeTriangles = 0;         ///< triangles added to close them
+  long long unmatchedBoundaryLoops = 0;  ///< input boundary loops without a single lattice front
+  long long componentsKept = 0;        ///< input components too small for the lattice, copied
+  long long nonManifoldFacesDropped = 0;  ///< faces OpenMesh refused (would be non-manifold)
+  Timings timings;
+};
+
+/// The remesh: a triangle mesh, its hexagonal dual and the extraction report.
+struct Remesh {
+  /// Manifold, consistently oriented triangle mesh (same orientation as the input).
+  TriMesh triangles;
+  /// Hexagonal dual as polygons: for each vertex of `triangles` the polygon through the centroids
+  /// of its triangles in counter-clockwise order (hexagons at valence 6, pentagons/heptagons at
+  /// singularities); at boundary vertices the polygon is closed through the midpoints of the two
+  /// boundary edges and the vertex itself.
+  PolygonSoup hexDual;
+  ExtractionReport report;
+};
+
+/// Extracts the remesh of `mesh` from its parameterization.
+/// mesh: the repaired input (the mesh `param` was computed on).
+/// param: #halfedges corner coordinates and #E transitions (core/param/parameterization.h).
+/// Throws Error(InvalidOption) for bad options, Error(NumericalFailure) when the coordinates do
+/// not fit the fixed-point grid (|a|, |b| ≥ 2^20 lattice units: the edge length is far too
+/// small for the mesh), Error(Canceled) when context asks to stop.
+Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
+                     const ExtractOptions& options = {}, const RunContext& context = {});
+
+/// The hexagonal dual of a triangle mesh (see Remesh::hexDual).
+PolygonSoup hexagonalDual(const TriMesh& triangles);
+
+}  // namespace hexcover
