@@ -11,6 +11,30 @@
 //   f1). Read from f1 to f0 it is (N - r_e) mod N. Boundary edges have 0.
 // - A singularity of index I/N at a vertex (I ≠ 0). Indices include the angle defect, so that on
 //   every component Σ I/N = χ (Poincaré–Hopf, with boundary vertices by their own rule).
+//
+// How the index of a vertex v is computed (N even; θ_f = tangent angle of faceDirection[f] in the
+// frame of core/geometry/frames.h, ρ_e = transport angle of edge e from f0 to f1):
+// - Per interior edge e: δ_e = θ_f1 − θ_f0 − ρ_e + 2π r_e / N, the turn of the field across e
+//   relative to parallel transport, in [−π/N, π/N] (the matching r_e is the one that makes it so).
+// - Per boundary edge b, with face-side halfedge u→w in face f (surface on its left): ψ_b = the
+//   angle from the edge's direction u→w to the nearest of the N field directions in f, in
+//   [−π/N, π/N] (0 when the field follows the boundary).
+// - I_v = (N / 2π) · (K_v + Σ_e s_{v,e} δ_e + Σ_b t_{v,b} ψ_b), an exact integer up to rounding,
+//   where K_v is the angle defect of core/geometry/frames.h (2π − Σ angles inside, π − Σ angles
+//   = the boundary's turning angle at a boundary vertex), the first sum runs over the interior
+//   edges at v with s = +1 when the counter-clockwise loop around v (seen from the normal side)
+//   crosses e from f0 to f1 (v = to_vertex(h0)) and −1 otherwise, and the second sum over the two
+//   boundary edges at a boundary vertex with t = +1 for the edge leaving v (v = u) and −1 for the
+//   edge arriving at v (v = w).
+// - Interior vertices: this is the usual index, Σ_edges Arg(u_g / (r^N u_f)) + N K_v over 2π in
+//   the power representation u = e^{iNθ}. Boundary vertices: the field's turn relative to the
+//   boundary tangent through the vertex's fan, plus the boundary's turning angle; a field that
+//   follows the boundary gets I_v = N (turning angle + field turn) / 2π, e.g. I = 2 (index 2/6)
+//   at a 60° corner of a flat equilateral patch whose field follows both edges.
+// - Both sums telescope over a component (each δ_e enters two vertices with opposite signs, each
+//   ψ_b the two ends of its edge), so Σ_v I_v / N = (Σ K_v) / 2π = χ by discrete Gauss–Bonnet.
+//   Every construction checks this per component and that each I_v is an integer to 1e-6; a
+//   failure is a bug and throws std::logic_error.
 
 #include <Eigen/Core>
 #include <vector>
@@ -21,9 +45,10 @@
 namespace hexcover {
 
 struct Singularity {
-  int vertex = -1;               ///< vertex index in the mesh the field lives on
-  int index = 0;                 ///< I: the singularity's index is I / N
+  int vertex = -1;  ///< vertex index in the mesh the field lives on
+  int index = 0;    ///< I: the singularity's index is I / N
   Eigen::Vector3d position{0, 0, 0};
+  bool onBoundary = false;  ///< a boundary vertex (its index counts by the boundary rule)
 };
 
 struct RosyField {
@@ -32,12 +57,16 @@ struct RosyField {
   std::vector<int> edgeMatching;               ///< #E matchings r_e, see above
   std::vector<Singularity> singularities;      ///< final singularities, sorted by vertex
   int singularitiesInitial = 0;                ///< count before clustering
+  int eulerCharacteristic = 0;                 ///< χ = Σ over components = Σ I / N
   Timings timings;
 };
 
-/// Builds a RosyField from given per-face representative directions (any tangent vectors, they
-/// are projected and normalized): computes the matchings and the singularities (with their
-/// index check). Used by the solver and by tests that prescribe fields.
+/// Builds a RosyField from given per-face representative directions (#F vectors, any tangent
+/// vectors: they are projected to the face plane and normalized): computes the matchings and the
+/// singularities (interior and boundary, see above) and checks Poincaré–Hopf per component.
+/// singularitiesInitial = singularities.size(). Used by the solver and by tests that prescribe
+/// fields. Throws Error(InvalidOption) for n not in {2, 4, 6, ...} or a wrong-sized or non-finite
+/// `directions`, std::logic_error if the index check fails (a bug).
 RosyField rosyFieldFromDirections(const TriMesh& mesh, std::vector<Eigen::Vector3d> directions,
                                   int n);
 
