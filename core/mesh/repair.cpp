@@ -1,0 +1,386 @@
+#include "core/mesh/repair.h"
+
+#include "core/common/error.h"
+#include "core/mesh/soup_connectivity.h"
+#include "core/mesh/validate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <unordered_map>
+
+namespace hexcover {
+namespace {
+
+using detail::EdgeTable;
+using detail::Triangle;
+
+constexpr std::uint32_t kNone = UINT32_MAX;
+/// Polygons with more corners are fan-triangulated: ear clipping is O(n³) in the worst case.
+constexpr std::size_t kMaxEarClippingCorners = 64;
+
+std::string formatPoint(const Eigen::Vector3d& p) {
+  std::ostringstream out;
+  out << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+  return out.str();
+}
+
+void validateOptions(const RepairOptions& options) {
+  if (!(options.weldTolerance >= 0.0 && options.weldTolerance <= 0.1))
+    throw Error(ErrorCode::InvalidOption, "weld tolerance must be in [0, 0.1] (a fraction of the "
+                                          "bounding-box diagonal), got " +
+                                              std::to_string(options.weldTolerance));
+  if (options.maxFaces == 0) throw Error(ErrorCode::InvalidOption, "the face limit must be positive");
+}
+
+// Refuses what no repair can fix, naming the first offending element.
+void refuseUnrepairable(const PolygonSoup& soup, const RepairOptions& options) {
+  if (soup.faceStarts.empty() || soup.faceStarts.back() != soup.cornerVertices.size())
+    throw Error(ErrorCode::InvalidMesh, "malformed polygon soup: faceStarts does not end at the corner count");
+  if (soup.faceCount() == 0)
+    throw Error(ErrorCode::InvalidMesh, "empty mesh: no faces (" + std::to_string(soup.vertexCount()) + " vertices)");
+  std::size_t triangles = 0;
+  for (std::size_t f = 0; f < soup.faceCount(); ++f) triangles += std::max<std::size_t>(soup.faceSize(f), 3) - 2;
+  if (triangles > options.maxFaces)
+    throw Error(ErrorCode::LimitExceeded, "the mesh has " + std::to_string(triangles) +
+                                              " triangles, over the limit of " + std::to_string(options.maxFaces));
+  for (std::size_t f = 0; f < soup.faceCount(); ++f)
+    for (std::size_t c = soup.faceStarts[f]; c < soup.faceStarts[f + 1]; ++c)
+      if (soup.cornerVertices[c] >= soup.vertexCount())
+        throw Error(ErrorCode::InvalidMesh, "face " + std::to_string(f) + " refers to vertex " +
+                                                std::to_string(soup.cornerVertices[c]) + ", but the mesh has only " +
+                                                std::to_string(soup.vertexCount()) + " vertices");
+  for (std::size_t v = 0; v < soup.vertexCount(); ++v)
+    if (!soup.positions[v].allFinite())
+      throw Error(ErrorCode::InvalidMesh, "vertex " + std::to_string(v) + " has a NaN or infinite coordinate " +
+                                              formatPoint(soup.positions[v]));
+}
+
+// Ear clipping of face f in the plane of its Newell normal; falls back to a fan for large or
+// numerically degenerate polygons and when no ear is found (self-intersecting outlines).
+void triangulateFace(const PolygonSoup& soup, std::size_t f, std::vector<Triangle>& out) {
+  const std::uint32_t* corners = soup.cornerVertices.data() + soup.faceStarts[f];
+  const std::size_t n = soup.faceSize(f);
+  const auto fan = [&](const std::vector<std::uint32_t>& ring) {
+    for (std::size_t i = 1; i + 1 < ring.size(); ++i) out.push_back({ring[0], ring[i], ring[i + 1]});
+  };
+  std::vector<std::uint32_t> ring(corners, corners + n);
+  if (n == 3 || n > kMaxEarClippingCorners) return fan(ring);
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < n; ++i) normal += soup.positions[corners[i]].cross(soup.positions[corners[(i + 1) % n]]);
+  if (!(normal.norm() > 0.0)) return fan(ring);
+  normal.normalize();
+  const Eigen::Vector3d u = normal.unitOrthogonal();
+  const Eigen::Vector3d w = normal.cross(u);
+  const auto at = [&](std::uint32_t v) {
+    return Eigen::Vector2d(soup.positions[v].dot(u), soup.positions[v].dot(w));
+  };
+  const auto cross2 = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); };
+  while (ring.size() > 3) {
+    const std::size_t m = ring.size();
+    bool clipped = false;
+    for (std::size_t i = 0; i < m && !clipped; ++i) {
+      const Eigen::Vector2d a = at(ring[(i + m - 1) % m]), b = at(ring[i]), c = at(ring[(i + 1) % m]);
+      if (cross2(b - a, c - b) <= 0.0) continue;  // reflex or flat corner
+      bool empty = true;
+      for (std::size_t j = 0; j < m && empty; ++j) {
+        if (j == i || j == (i + 1) % m || j == (i + m - 1) % m) continue;
+        const Eigen::Vector2d p = at(ring[j]);
+        empty = !(cross2(b - a, p - a) >= 0.0 && cross2(c - b, p - b) >= 0.0 && cross2(a - c, p - c) >= 0.0);
+      }
+      if (!empty) continue;
+      out.push_back({ring[(i + m - 1) % m], ring[i], ring[(i + 1) % m]});
+      ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(i));
+      clipped = true;
+    }
+    if (!clipped) return fan(ring);
+  }
+  out.push_back({ring[0], ring[1], ring[2]});
+}
+
+// Representative of every vertex after welding referenced vertices: first by exact position,
+// then within `tolerance` (greedy in index order over a hash grid of cell size `tolerance`).
+// Representatives are the lowest index of their group; unreferenced vertices map to themselves.
+std::vector<std::uint32_t> weldVertices(const std::vector<Eigen::Vector3d>& positions,
+                                        const std::vector<bool>& referenced, double tolerance) {
+  std::vector<std::uint32_t> representative(positions.size());
+  std::iota(representative.begin(), representative.end(), 0u);
+  std::vector<std::uint32_t> order;
+  for (std::uint32_t v = 0; v < positions.size(); ++v)
+    if (referenced[v]) order.push_back(v);
+  const auto key = [&](std::uint32_t v) {
+    return std::array<double, 3>{positions[v].x(), positions[v].y(), positions[v].z()};
+  };
+  std::sort(order.begin(), order.end(), [&](auto a, auto b) {
+    const auto ka = key(a), kb = key(b);
+    return ka < kb || (ka == kb && a < b);
+  });
+  for (std::size_t i = 1; i < order.size(); ++i)
+    if (key(order[i]) == key(order[i - 1])) representative[order[i]] = representative[order[i - 1]];
+  if (!(tolerance > 0.0)) return representative;
+
+  using Cell = std::array<std::int64_t, 3>;
+  struct CellHash {
+    std::size_t operator()(const Cell& c) const {
+      return static_cast<std::size_t>(c[0] * 73856093LL ^ c[1] * 19349663LL ^ c[2] * 83492791LL);
+    }
+  };
+  std::unordered_map<Cell, std::uint32_t, CellHash> cellHead;  // first representative in a cell
+  std::vector<std::uint32_t> next(positions.size(), kNone);    // chain of representatives per cell
+  const auto cellOf = [&](const Eigen::Vector3d& p) {
+    return Cell{static_cast<std::int64_t>(std::floor(p.x() / tolerance)),
+                static_cast<std::int64_t>(std::floor(p.y() / tolerance)),
+                static_cast<std::int64_t>(std::floor(p.z() / tolerance))};
+  };
+  const double toleranceSquared = tolerance * tolerance;
+  for (std::uint32_t v = 0; v < positions.size(); ++v) {
+    if (!referenced[v] || representative[v] != v) continue;
+    const Cell cell = cellOf(positions[v]);
+    std::uint32_t match = kNone;
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto it = cellHead.find({cell[0] + dx, cell[1] + dy, cell[2] + dz});
+          if (it == cellHead.end()) continue;
+          for (std::uint32_t w = it->second; w != kNone; w = next[w])
+            if (w < match && (positions[w] - positions[v]).squaredNorm() <= toleranceSquared) match = w;
+        }
+    if (match != kNone) {
+      representative[v] = match;
+      continue;
+    }
+    auto [it, inserted] = cellHead.try_emplace(cell, v);
+    if (!inserted) {
+      next[v] = it->second;
+      it->second = v;
+    }
+  }
+  for (std::uint32_t v = 0; v < positions.size(); ++v) representative[v] = representative[representative[v]];
+  return representative;
+}
+
+bool isZeroArea(const std::vector<Eigen::Vector3d>& positions, const Triangle& t) {
+  const Eigen::Vector3d &a = positions[t[0]], &b = positions[t[1]], &c = positions[t[2]];
+  const double longest = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+  return !((b - a).cross(c - a).norm() > 1e-12 * longest);
+}
+
+// The triangles with their input face, filtered in place by `keep`.
+template <typename Keep>
+std::size_t filterTriangles(std::vector<Triangle>& tris, std::vector<std::uint32_t>& origin, Keep keep) {
+  std::size_t kept = 0;
+  for (std::size_t t = 0; t < tris.size(); ++t) {
+    if (!keep(t)) continue;
+    tris[kept] = tris[t];
+    origin[kept] = origin[t];
+    ++kept;
+  }
+  const std::size_t dropped = tris.size() - kept;
+  tris.resize(kept);
+  origin.resize(kept);
+  return dropped;
+}
+
+// Splits non-manifold edges and vertices: vertices get one copy per fan of triangles, where fans
+// are joined across two-triangle edges and, for an edge with more triangles, across one pair
+// only (the first triangle and the first one that traverses the edge the other way, so that the
+// pair is consistently oriented when possible). Appends copies to `positions` and records the
+// input vertex of each in `source`. Repeats while edges with more than two triangles remain
+// (a few rounds at most; anything left is refused by add_face and counted).
+void splitNonManifold(std::vector<Triangle>& tris, std::vector<Eigen::Vector3d>& positions,
+                      std::vector<std::uint32_t>& source, RepairCounts& counts) {
+  constexpr int kMaxRounds = 4;
+  for (int round = 0; round < kMaxRounds; ++round) {
+    const EdgeTable edges = detail::buildEdgeTable(tris);
+    std::vector<std::array<std::uint32_t, 2>> pairs;
+    pairs.reserve(edges.edgeCount());
+    std::vector<bool> onSplitEdge(positions.size(), false);
+    std::size_t splitEdges = 0;
+    for (std::size_t e = 0; e < edges.edgeCount(); ++e) {
+      const std::uint32_t* hs = edges.halfedges.data() + edges.edgeStarts[e];
+      const std::size_t k = edges.valence(e);
+      if (k == 2) pairs.push_back({hs[0], hs[1]});
+      if (k <= 2) continue;
+      ++splitEdges;
+      const std::uint32_t tail = detail::halfedgeTail(tris, hs[0]);
+      onSplitEdge[tail] = onSplitEdge[detail::halfedgeHead(tris, hs[0])] = true;
+      std::uint32_t partner = hs[1];
+      for (std::size_t i = 1; i < k; ++i)
+        if (detail::halfedgeTail(tris, hs[i]) != tail) {
+          partner = hs[i];
+          break;
+        }
+      pairs.push_back({hs[0], partner});
+    }
+    detail::UnionFind fans = detail::cornerFans(tris, pairs);
+    std::vector<std::uint32_t> firstFan(positions.size(), kNone);
+    std::vector<std::uint32_t> vertexOfFan(3 * tris.size(), kNone);
+    std::vector<bool> split(positions.size(), false);
+    std::size_t added = 0;
+    for (std::uint32_t c = 0; c < 3 * tris.size(); ++c) {
+      std::uint32_t& v = tris[c / 3][c % 3];
+      const std::uint32_t fan = fans.find(c);
+      if (firstFan[v] == kNone) firstFan[v] = fan;
+      if (firstFan[v] == fan) continue;
+      if (vertexOfFan[fan] == kNone) {
+        vertexOfFan[fan] = static_cast<std::uint32_t>(positions.size());
+        positions.push_back(positions[v]);
+        source.push_back(source[v]);
+        ++added;
+        split[v] = true;
+      }
+      v = vertexOfFan[fan];
+    }
+    counts.splitNonManifoldEdges += splitEdges;
+    counts.addedVertices += added;
+    for (std::size_t v = 0; v < split.size(); ++v) counts.splitNonManifoldVertices += split[v] && !onSplitEdge[v];
+    if (splitEdges == 0) return;  // one round settles non-manifold vertices
+  }
+}
+
+// Orients every edge-connected patch consistently and counts the flips: closed patches outward
+// (positive signed volume) when `outward`, other patches toward the majority of their triangles.
+// Refuses non-orientable patches.
+void orientPatches(std::vector<Triangle>& tris, const std::vector<std::uint32_t>& origin,
+                   const std::vector<Eigen::Vector3d>& positions, bool outward, RepairCounts& counts) {
+  const EdgeTable edges = detail::buildEdgeTable(tris);
+  detail::Orientation orientation = detail::propagateOrientation(tris, edges);
+  const std::size_t patchCount = orientation.conflict.size();
+  std::vector<std::size_t> size(patchCount, 0), reversed(patchCount, 0);
+  std::vector<bool> open(patchCount, false);
+  std::vector<double> volume(patchCount, 0.0);
+  for (std::size_t t = 0; t < tris.size(); ++t) {
+    const std::uint32_t p = orientation.patch[t];
+    ++size[p];
+    reversed[p] += orientation.sign[t] < 0;
+    const Eigen::Vector3d &a = positions[tris[t][0]], &b = positions[tris[t][1]], &c = positions[tris[t][2]];
+    volume[p] += orientation.sign[t] * a.dot(b.cross(c));
+  }
+  for (std::size_t e = 0; e < edges.edgeCount(); ++e)
+    if (edges.valence(e) == 1) open[orientation.patch[edges.halfedges[edges.edgeStarts[e]] / 3]] = true;
+  for (std::size_t p = 0; p < patchCount; ++p) {
+    const std::uint32_t t = orientation.conflict[p];
+    if (t != kNone)
+      throw Error(ErrorCode::InvalidMesh,
+                  "non-orientable component: the " + std::to_string(size[p]) +
+                      " triangles connected to input face " + std::to_string(origin[t]) +
+                      " cannot be oriented consistently (a Moebius-like strip); repair cannot fix this");
+  }
+  std::vector<bool> invert(patchCount, false);
+  for (std::size_t p = 0; p < patchCount; ++p)
+    invert[p] = open[p] || !outward ? 2 * reversed[p] > size[p] : volume[p] < 0.0;
+  for (std::size_t t = 0; t < tris.size(); ++t) {
+    const bool flip = (orientation.sign[t] < 0) != invert[orientation.patch[t]];
+    if (!flip) continue;
+    std::swap(tris[t][1], tris[t][2]);
+    ++counts.flippedFaces;
+  }
+}
+
+}  // namespace
+
+RepairedMesh repairMesh(const PolygonSoup& soup, const RepairOptions& options) {
+  validateOptions(options);
+  refuseUnrepairable(soup, options);
+  RepairedMesh out;
+  MeshReport& report = out.report;
+  RepairCounts& counts = report.repairs;
+  report.input = measureMesh(soup);
+
+  // Triangulate, keeping the input face of every triangle for messages.
+  std::vector<Triangle> tris;
+  std::vector<std::uint32_t> origin;
+  tris.reserve(report.input.triangles);
+  for (std::size_t f = 0; f < soup.faceCount(); ++f) {
+    const std::size_t n = soup.faceSize(f);
+    if (n < 3) {
+      ++counts.droppedDegenerateFaces;
+      continue;
+    }
+    if (n > 3) ++counts.polygonsTriangulated;
+    triangulateFace(soup, f, tris);
+    origin.resize(tris.size(), static_cast<std::uint32_t>(f));
+  }
+
+  // Weld referenced vertices.
+  std::vector<bool> referenced(soup.vertexCount(), false);
+  for (const auto& t : tris)
+    for (const auto v : t) referenced[v] = true;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (std::size_t v = 0; v < soup.vertexCount(); ++v)
+    if (referenced[v]) {
+      lo = lo.cwiseMin(soup.positions[v]);
+      hi = hi.cwiseMax(soup.positions[v]);
+    }
+  const double diagonal = tris.empty() ? 0.0 : (hi - lo).norm();
+  const std::vector<std::uint32_t> representative =
+      weldVertices(soup.positions, referenced, options.weldTolerance * diagonal);
+  for (std::size_t v = 0; v < soup.vertexCount(); ++v) counts.weldedVertices += representative[v] != v;
+  for (auto& t : tris)
+    for (auto& v : t) v = representative[v];
+
+  // Drop degenerate, then duplicate triangles (same vertex set as an earlier one).
+  std::vector<Eigen::Vector3d> positions = soup.positions;
+  counts.droppedDegenerateFaces += filterTriangles(tris, origin, [&](std::size_t t) {
+    const Triangle& tri = tris[t];
+    return tri[0] != tri[1] && tri[1] != tri[2] && tri[0] != tri[2] && !isZeroArea(positions, tri);
+  });
+  {
+    std::vector<std::pair<Triangle, std::uint32_t>> sorted(tris.size());
+    for (std::uint32_t t = 0; t < tris.size(); ++t) {
+      Triangle key = tris[t];
+      std::sort(key.begin(), key.end());
+      sorted[t] = {key, t};
+    }
+    std::sort(sorted.begin(), sorted.end());
+    std::vector<bool> duplicate(tris.size(), false);
+    for (std::size_t i = 1; i < sorted.size(); ++i)
+      if (sorted[i].first == sorted[i - 1].first) duplicate[sorted[i].second] = true;
+    counts.droppedDuplicateFaces += filterTriangles(tris, origin, [&](std::size_t t) { return !duplicate[t]; });
+  }
+
+  // Split non-manifold edges and vertices, then orient.
+  std::vector<std::uint32_t> source(soup.vertexCount());
+  std::iota(source.begin(), source.end(), 0u);
+  splitNonManifold(tris, positions, source, counts);
+  orientPatches(tris, origin, positions, /*outward=*/options.repair, counts);
+
+  // Drop unreferenced vertices (input order kept, split copies after) and build the mesh.
+  std::vector<std::uint32_t> newIndex(positions.size(), kNone);
+  for (const auto& t : tris)
+    for (const auto v : t) newIndex[v] = 0;
+  std::uint32_t used = 0;
+  for (auto& index : newIndex)
+    if (index != kNone) index = used++;
+  for (std::size_t v = 0; v < soup.vertexCount(); ++v)
+    counts.droppedUnreferencedVertices += representative[v] == v && newIndex[v] == kNone;
+  if (tris.empty())
+    throw Error(ErrorCode::InvalidMesh, "empty mesh: all " + std::to_string(report.input.faces) +
+                                            " faces are degenerate or duplicates");
+
+  TriMesh& mesh = out.mesh;
+  mesh.reserve(used, 3 * tris.size() / 2 + 3, tris.size());
+  std::vector<TriMesh::VertexHandle> handles(used);
+  for (std::size_t v = 0; v < positions.size(); ++v)
+    if (newIndex[v] != kNone) handles[newIndex[v]] = mesh.add_vertex(toOpenMesh(positions[v]));
+  for (const auto& t : tris) {
+    const auto fh = mesh.add_face(handles[newIndex[t[0]]], handles[newIndex[t[1]]], handles[newIndex[t[2]]]);
+    counts.facesRefusedByMesh += !fh.is_valid();
+  }
+  counts.droppedFaces = counts.droppedDegenerateFaces + counts.droppedDuplicateFaces + counts.facesRefusedByMesh;
+
+  if (!options.repair) {
+    const bool clean = counts.weldedVertices == 0 && counts.droppedFaces == 0 &&
+                       counts.droppedUnreferencedVertices == 0 && counts.addedVertices == 0 &&
+                       counts.splitNonManifoldEdges == 0 && counts.flippedFaces == 0;
+    if (!clean)
+      throw Error(ErrorCode::InvalidMesh,
+                  "the mesh needs repair (duplicate, degenerate or unreferenced elements, non-manifold "
+                  "or inconsistently oriented parts) and repair is off");
+  }
+  report.repaired = options.repair;
+  report.result = measureMesh(toPolygonSoup(mesh));
+  return out;
+}
+
+}  // namespace hexcover

@@ -1,0 +1,203 @@
+#include "core/mesh/validate.h"
+
+#include "core/mesh/soup_connectivity.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <span>
+
+namespace hexcover {
+namespace {
+
+using detail::EdgeTable;
+using detail::Triangle;
+using detail::UnionFind;
+
+// A face is degenerate when it has fewer than 3 corners, an index out of range, a repeated
+// vertex, or (numerically) zero area: |Newell normal| ≤ 1e-12 · (longest edge)².
+bool isDegenerateFace(const PolygonSoup& soup, std::size_t f) {
+  const std::size_t n = soup.faceSize(f);
+  if (n < 3) return true;
+  const std::span<const std::uint32_t> corners(soup.cornerVertices.data() + soup.faceStarts[f], n);
+  for (const auto v : corners)
+    if (v >= soup.vertexCount()) return true;
+  std::vector<std::uint32_t> sorted(corners.begin(), corners.end());
+  std::sort(sorted.begin(), sorted.end());
+  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return true;
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  double longest = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d& p = soup.positions[corners[i]];
+    const Eigen::Vector3d& q = soup.positions[corners[(i + 1) % n]];
+    normal += p.cross(q);
+    longest = std::max(longest, (q - p).squaredNorm());
+  }
+  return !(normal.norm() > 1e-12 * longest);
+}
+
+// Faces whose sorted vertex lists equal an earlier face's.
+std::size_t countDuplicateFaces(const PolygonSoup& soup) {
+  std::vector<std::uint32_t> sortedCorners = soup.cornerVertices;
+  for (std::size_t f = 0; f < soup.faceCount(); ++f)
+    std::sort(sortedCorners.begin() + soup.faceStarts[f], sortedCorners.begin() + soup.faceStarts[f + 1]);
+  const auto face = [&](std::uint32_t f) {
+    return std::span<const std::uint32_t>(sortedCorners.data() + soup.faceStarts[f], soup.faceSize(f));
+  };
+  std::vector<std::uint32_t> order(soup.faceCount());
+  std::iota(order.begin(), order.end(), 0u);
+  const auto less = [&](std::uint32_t a, std::uint32_t b) {
+    const auto fa = face(a), fb = face(b);
+    return std::lexicographical_compare(fa.begin(), fa.end(), fb.begin(), fb.end());
+  };
+  std::sort(order.begin(), order.end(), less);
+  std::size_t duplicates = 0;
+  for (std::size_t i = 1; i < order.size(); ++i) {
+    const auto fa = face(order[i - 1]), fb = face(order[i]);
+    if (std::equal(fa.begin(), fa.end(), fb.begin(), fb.end())) ++duplicates;
+  }
+  return duplicates;
+}
+
+// Finite vertices at exactly the position of another vertex (all but the first of each group).
+std::size_t countDuplicateVertices(const std::vector<Eigen::Vector3d>& positions) {
+  std::vector<std::uint32_t> order;
+  order.reserve(positions.size());
+  for (std::uint32_t v = 0; v < positions.size(); ++v)
+    if (positions[v].allFinite()) order.push_back(v);
+  const auto key = [&](std::uint32_t v) {
+    const auto& p = positions[v];
+    return std::array<double, 3>{p.x(), p.y(), p.z()};
+  };
+  std::sort(order.begin(), order.end(), [&](auto a, auto b) { return key(a) < key(b); });
+  std::size_t duplicates = 0;
+  for (std::size_t i = 1; i < order.size(); ++i)
+    if (key(order[i]) == key(order[i - 1])) ++duplicates;
+  return duplicates;
+}
+
+}  // namespace
+
+MeshStatistics measureMesh(const PolygonSoup& soup) {
+  MeshStatistics stats;
+  stats.vertices = soup.vertexCount();
+  stats.faces = soup.faceCount();
+  std::vector<bool> referenced(soup.vertexCount(), false);
+  for (std::size_t f = 0; f < soup.faceCount(); ++f) {
+    const std::size_t n = soup.faceSize(f);
+    if (n > 3) ++stats.nonTriangleFaces;
+    stats.triangles += n >= 3 ? n - 2 : 1;
+    if (isDegenerateFace(soup, f)) ++stats.degenerateFaces;
+    for (std::size_t c = soup.faceStarts[f]; c < soup.faceStarts[f + 1]; ++c)
+      if (soup.cornerVertices[c] < soup.vertexCount()) referenced[soup.cornerVertices[c]] = true;
+  }
+  for (std::size_t v = 0; v < soup.vertexCount(); ++v) {
+    if (!referenced[v]) ++stats.unreferencedVertices;
+    if (!soup.positions[v].allFinite()) ++stats.nonFiniteCoordinates;
+  }
+  stats.duplicateFaces = countDuplicateFaces(soup);
+  stats.duplicateVertices = countDuplicateVertices(soup.positions);
+
+  // Topology on the fan-triangulated faces (triangles with a repeated vertex left out).
+  const std::vector<Triangle> tris = detail::fanTriangulate(soup);
+  const EdgeTable edges = detail::buildEdgeTable(tris);
+
+  UnionFind components(soup.vertexCount());
+  for (const auto& t : tris) {
+    components.unite(t[0], t[1]);
+    components.unite(t[1], t[2]);
+  }
+  // Fans around vertices are joined across every edge, whatever its valence: a vertex is
+  // non-manifold when its triangles still form several fans (two cones touching at a tip).
+  std::vector<std::array<std::uint32_t, 2>> allPairs;
+  std::vector<bool> onNonManifoldEdge(soup.vertexCount(), false);
+  UnionFind boundary(soup.vertexCount());
+  std::vector<bool> onBoundary(soup.vertexCount(), false);
+  for (std::size_t e = 0; e < edges.edgeCount(); ++e) {
+    const std::uint32_t* hs = edges.halfedges.data() + edges.edgeStarts[e];
+    const std::size_t k = edges.valence(e);
+    for (std::size_t i = 1; i < k; ++i) allPairs.push_back({hs[0], hs[i]});
+    const std::uint32_t a = detail::halfedgeTail(tris, hs[0]);
+    const std::uint32_t b = detail::halfedgeHead(tris, hs[0]);
+    if (k > 2) {
+      ++stats.nonManifoldEdges;
+      onNonManifoldEdge[a] = onNonManifoldEdge[b] = true;
+    } else if (k == 2 && detail::halfedgeTail(tris, hs[1]) == a) {
+      ++stats.inconsistentlyOrientedEdges;
+    } else if (k == 1) {
+      boundary.unite(a, b);
+      onBoundary[a] = onBoundary[b] = true;
+    }
+  }
+  UnionFind fans = detail::cornerFans(tris, allPairs);
+  std::vector<std::uint32_t> firstFan(soup.vertexCount(), UINT32_MAX);
+  std::vector<bool> nonManifoldVertex(soup.vertexCount(), false);
+  for (std::uint32_t c = 0; c < 3 * tris.size(); ++c) {
+    const std::uint32_t v = tris[c / 3][c % 3];
+    const std::uint32_t fan = fans.find(c);
+    if (firstFan[v] == UINT32_MAX) firstFan[v] = fan;
+    else if (firstFan[v] != fan) nonManifoldVertex[v] = true;
+  }
+  for (std::size_t v = 0; v < soup.vertexCount(); ++v) stats.nonManifoldVertices += nonManifoldVertex[v];
+
+  // Orientation: a patch where propagation conflicts makes its component non-orientable.
+  std::vector<bool> componentNonOrientable(soup.vertexCount(), false);
+  const detail::Orientation orientation = detail::propagateOrientation(tris, edges);
+  for (const auto t : orientation.conflict)
+    if (t != UINT32_MAX) componentNonOrientable[components.find(tris[t][0])] = true;
+
+  // Per-component counts. Component ids are the union-find roots (lowest vertex index).
+  std::vector<std::uint32_t> componentIndex(soup.vertexCount(), UINT32_MAX);
+  std::vector<ComponentTopology>& comps = stats.componentTopology;
+  const auto componentOf = [&](std::uint32_t v) -> ComponentTopology& {
+    const std::uint32_t root = components.find(v);
+    if (componentIndex[root] == UINT32_MAX) {
+      componentIndex[root] = static_cast<std::uint32_t>(comps.size());
+      comps.emplace_back();
+      comps.back().orientable = !componentNonOrientable[root];
+    }
+    return comps[componentIndex[root]];
+  };
+  for (const auto& t : tris) ++componentOf(t[0]).faces;
+  for (std::size_t e = 0; e < edges.edgeCount(); ++e) {
+    const std::uint32_t a = detail::halfedgeTail(tris, edges.halfedges[edges.edgeStarts[e]]);
+    ComponentTopology& comp = componentOf(a);
+    ++comp.edges;
+    if (edges.valence(e) > 2) comp.manifold = false;
+  }
+  std::vector<bool> boundaryRootSeen(soup.vertexCount(), false);
+  for (std::uint32_t v = 0; v < soup.vertexCount(); ++v) {
+    if (firstFan[v] == UINT32_MAX) continue;  // unreferenced or only in skipped faces
+    ComponentTopology& comp = componentOf(v);
+    ++comp.vertices;
+    if (nonManifoldVertex[v]) comp.manifold = false;
+    if (onBoundary[v] && !boundaryRootSeen[boundary.find(v)]) {
+      boundaryRootSeen[boundary.find(v)] = true;
+      ++comp.boundaryLoops;
+    }
+  }
+  for (auto& comp : comps) {
+    comp.eulerCharacteristic = static_cast<long long>(comp.vertices) -
+                               static_cast<long long>(comp.edges) +
+                               static_cast<long long>(comp.faces);
+    const long long twiceGenus = 2 - comp.eulerCharacteristic - static_cast<long long>(comp.boundaryLoops);
+    comp.genus = comp.manifold && comp.orientable && twiceGenus >= 0 && twiceGenus % 2 == 0
+                     ? static_cast<int>(twiceGenus / 2)
+                     : -1;
+    stats.boundaryLoops += comp.boundaryLoops;
+    stats.eulerCharacteristic += comp.eulerCharacteristic;
+    stats.nonOrientableComponents += !comp.orientable;
+  }
+  std::stable_sort(comps.begin(), comps.end(),
+                   [](const auto& a, const auto& b) { return a.faces > b.faces; });
+  stats.components = comps.size();
+  return stats;
+}
+
+MeshReport validateMesh(const PolygonSoup& soup) {
+  MeshReport report;
+  report.input = measureMesh(soup);
+  return report;
+}
+
+}  // namespace hexcover
