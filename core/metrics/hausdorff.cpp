@@ -1,0 +1,457 @@
+#include "core/metrics/hausdorff.h"
+
+#include <embree3/rtcore.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <string>
+#include <thread>
+#include <unordered_map>
+#include <vector>
+
+#include "core/common/error.h"
+
+namespace hexcover {
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+
+/// Closest point to p on triangle (a, b, c), by the Voronoi regions of its vertices, edges and
+/// interior (exact up to rounding; handles degenerate triangles).
+Vec3 closestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return a;
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0.0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + (d1 / (d1 - d3)) * ab;
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0.0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + (d2 / (d2 - d6)) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0)
+    return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+  const double denom = va + vb + vc;
+  if (!(denom > 0.0)) {  // degenerate (collinear) triangle: closest of its three edges
+    const auto onSegment = [&](const Vec3& s, const Vec3& t) {
+      const Vec3 st = t - s;
+      const double len2 = st.squaredNorm();
+      const double u = len2 > 0.0 ? std::clamp((p - s).dot(st) / len2, 0.0, 1.0) : 0.0;
+      return Vec3(s + u * st);
+    };
+    std::array<Vec3, 3> candidates{onSegment(a, b), onSegment(b, c), onSegment(c, a)};
+    return *std::min_element(candidates.begin(), candidates.end(), [&](const Vec3& x, const Vec3& y) {
+      return (x - p).squaredNorm() < (y - p).squaredNorm();
+    });
+  }
+  return a + (vb / denom) * ab + (vc / denom) * ac;
+}
+
+/// Vertex positions and triangles of a TriMesh as arrays (#V × 3 positions, #F triangles),
+/// indexed by OpenMesh index.
+struct TriangleArrays {
+  std::vector<Vec3> positions;
+  std::vector<std::array<int, 3>> triangles;
+  std::vector<char> referenced;  ///< per vertex: belongs to a face
+
+  explicit TriangleArrays(const TriMesh& mesh)
+      : positions(mesh.n_vertices()), referenced(mesh.n_vertices(), 0) {
+    for (const auto vh : mesh.vertices()) positions[vh.idx()] = toEigen(mesh.point(vh));
+    triangles.reserve(mesh.n_faces());
+    for (const auto fh : mesh.faces()) {
+      const auto h = fh.halfedge();
+      const std::array<int, 3> t{h.from().idx(), h.to().idx(), h.next().to().idx()};
+      for (const int v : t) referenced[v] = 1;
+      triangles.push_back(t);
+    }
+  }
+  const Vec3& corner(int face, int i) const { return positions[triangles[face][i]]; }
+};
+
+/// Runs body(i) for i in [0, count) on up to `threads` threads, in contiguous chunks.
+template <typename Body>
+void parallelFor(std::size_t count, int threads, const Body& body) {
+  const std::size_t workers =
+      std::min<std::size_t>(std::max(1, threads), std::max<std::size_t>(1, count / 2048));
+  if (workers <= 1) {
+    for (std::size_t i = 0; i < count; ++i) body(i);
+    return;
+  }
+  std::vector<std::thread> pool;
+  pool.reserve(workers);
+  for (std::size_t w = 0; w < workers; ++w) {
+    pool.emplace_back([&, w] {
+      const std::size_t begin = count * w / workers, end = count * (w + 1) / workers;
+      for (std::size_t i = begin; i < end; ++i) body(i);
+    });
+  }
+  for (auto& t : pool) t.join();
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// ClosestPointQuery
+
+struct ClosestPointQuery::Impl {
+  TriangleArrays mesh;
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  /// Float rounding of the BVH (built on float copies of the points): the search radius is kept
+  /// this much larger than the best exact distance so that no closer triangle is culled.
+  double slack = 0.0;
+
+  explicit Impl(const TriMesh& target) : mesh(target) {
+    if (mesh.triangles.empty())
+      throw Error(ErrorCode::InvalidMesh, "cannot measure distances to a mesh without faces");
+    double extent = 0.0;
+    for (const auto& p : mesh.positions) extent = std::max(extent, p.cwiseAbs().maxCoeff());
+    slack = 16.0 * std::numeric_limits<float>::epsilon() * std::max(extent, 1e-30);
+
+    device = rtcNewDevice("verbose=0");
+    if (!device) throw Error(ErrorCode::NumericalFailure, "Embree: cannot create a device");
+    scene = rtcNewScene(device);
+    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+        mesh.positions.size()));
+    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
+        mesh.triangles.size()));
+    if (!vertices || !indices) {
+      rtcReleaseGeometry(geometry);
+      release();
+      throw Error(ErrorCode::LimitExceeded, "Embree: out of memory for the distance BVH");
+    }
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v)
+      for (int k = 0; k < 3; ++k) vertices[3 * v + k] = static_cast<float>(mesh.positions[v][k]);
+    for (std::size_t f = 0; f < mesh.triangles.size(); ++f)
+      for (int k = 0; k < 3; ++k) indices[3 * f + k] = static_cast<unsigned>(mesh.triangles[f][k]);
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometry(scene, geometry);
+    rtcReleaseGeometry(geometry);
+    rtcCommitScene(scene);
+    if (rtcGetDeviceError(device) != RTC_ERROR_NONE) {
+      release();
+      throw Error(ErrorCode::NumericalFailure, "Embree: building the distance BVH failed");
+    }
+  }
+  ~Impl() { release(); }
+
+  void release() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+    scene = nullptr;
+    device = nullptr;
+  }
+
+  double distanceToFace(const Vec3& p, int f) const {
+    return (closestPointOnTriangle(p, mesh.corner(f, 0), mesh.corner(f, 1), mesh.corner(f, 2)) - p)
+        .norm();
+  }
+
+  /// State of one query, passed to the Embree callback through userPtr.
+  struct Search {
+    const Impl* self;
+    Vec3 p;
+    double best;
+    int bestFace;
+  };
+
+  static bool visitTriangle(RTCPointQueryFunctionArguments* args) {
+    auto& search = *static_cast<Search*>(args->userPtr);
+    const int f = static_cast<int>(args->primID);
+    const double d = search.self->distanceToFace(search.p, f);
+    if (d < search.best || (d == search.best && f < search.bestFace)) {
+      search.best = d;
+      search.bestFace = f;
+    }
+    const float radius = static_cast<float>(search.best + search.self->slack);
+    if (radius < args->query->radius) {
+      args->query->radius = radius;
+      return true;
+    }
+    return false;
+  }
+
+  Result closest(const Vec3& p, int hintFace) const {
+    Search search{this, p, std::numeric_limits<double>::infinity(), -1};
+    if (hintFace >= 0) {
+      search.best = distanceToFace(p, hintFace);
+      search.bestFace = hintFace;
+    }
+    RTCPointQuery query;
+    query.x = static_cast<float>(p.x());
+    query.y = static_cast<float>(p.y());
+    query.z = static_cast<float>(p.z());
+    query.time = 0.0f;
+    // The float query point is off by up to an ulp per coordinate; the slack covers it too.
+    query.radius = std::isfinite(search.best)
+                       ? static_cast<float>(search.best + slack + slack)
+                       : std::numeric_limits<float>::infinity();
+    RTCPointQueryContext context;
+    rtcInitPointQueryContext(&context);
+    rtcPointQuery(scene, &query, &context, &Impl::visitTriangle, &search);
+    const int f = search.bestFace;
+    return {search.best, f,
+            closestPointOnTriangle(p, mesh.corner(f, 0), mesh.corner(f, 1), mesh.corner(f, 2))};
+  }
+};
+
+ClosestPointQuery::ClosestPointQuery(const TriMesh& target) : impl_(std::make_unique<Impl>(target)) {}
+ClosestPointQuery::~ClosestPointQuery() = default;
+
+ClosestPointQuery::Result ClosestPointQuery::closest(const Vec3& p, int hintFace) const {
+  return impl_->closest(p, hintFace);
+}
+
+double ClosestPointQuery::distanceToFace(const Vec3& p, int face) const {
+  return impl_->distanceToFace(p, face);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Sampling and refinement of one surface against another
+
+void DistanceOptions::validate() const {
+  if (!(relativeTolerance > 0.0 && relativeTolerance < 1.0))
+    throw Error(ErrorCode::InvalidOption,
+                "relativeTolerance must be in (0, 1), got " + std::to_string(relativeTolerance));
+  if (maxSamples == 0) throw Error(ErrorCode::InvalidOption, "maxSamples must be positive");
+  if (threads < 1)
+    throw Error(ErrorCode::InvalidOption, "threads must be at least 1, got " + std::to_string(threads));
+}
+
+namespace {
+
+/// A planar sub-triangle of a face of the sampled surface: three corner samples, one centroid
+/// sample, its area and the upper bound U of the distance over it.
+struct Cell {
+  std::array<int, 3> corners;
+  int centroid;
+  double area;
+  double bound = 0.0;
+};
+
+/// Samples of the surface `from` with their exact distance to `to`, and the cell partition.
+class SurfaceSampler {
+ public:
+  SurfaceSampler(const TriangleArrays& from, const ClosestPointQuery& to, const DistanceOptions& options)
+      : to_(to), options_(options) {
+    // Vertex samples keep the vertex index as sample id.
+    points_ = from.positions;
+    distance_.assign(points_.size(), 0.0);
+    face_.assign(points_.size(), -1);
+    hint_.assign(points_.size(), -1);
+    std::vector<int> vertexSamples;
+    for (std::size_t v = 0; v < points_.size(); ++v)
+      if (from.referenced[v]) vertexSamples.push_back(static_cast<int>(v));
+    query(vertexSamples);
+
+    cells_.reserve(from.triangles.size());
+    const std::size_t firstNew = points_.size();
+    for (const auto& t : from.triangles) {
+      const Vec3 a = points_[t[0]], b = points_[t[1]], c = points_[t[2]];
+      const double area = 0.5 * (b - a).cross(c - a).norm();
+      cells_.push_back({t, addSample((a + b + c) / 3.0, face_[t[0]]), area});
+    }
+    queryFrom(firstNew);
+    for (auto& cell : cells_) cell.bound = bound(cell);
+  }
+
+  /// Splits cells (area-proportional sampling, then bound-driven refinement) until the
+  /// tolerance is met or the budget is spent.
+  void refine(double maxCellArea, double absoluteTolerance) {
+    for (;;) {
+      const double threshold = largest() * (1.0 + options_.relativeTolerance) + absoluteTolerance;
+      std::vector<int> selected;
+      for (std::size_t i = 0; i < cells_.size(); ++i)
+        if (cells_[i].area > maxCellArea || cells_[i].bound > threshold) selected.push_back(static_cast<int>(i));
+      if (selected.empty()) return;
+      // Each split adds at most 3 midpoints and 4 centroids.
+      const std::size_t room = points_.size() < options_.maxSamples ? options_.maxSamples - points_.size() : 0;
+      if (7 * selected.size() > room) {
+        std::stable_sort(selected.begin(), selected.end(),
+                         [&](int x, int y) { return cells_[x].bound > cells_[y].bound; });
+        selected.resize(room / 7);
+        if (selected.empty()) return;
+      }
+      split(selected);
+      ++rounds_;
+    }
+  }
+
+  OneSidedDistance result(double relativeTolerance, double absoluteTolerance) const {
+    OneSidedDistance out;
+    int farthest = -1;
+    for (std::size_t i = 0; i < points_.size(); ++i)
+      if (face_[i] >= 0 && (farthest < 0 || distance_[i] > distance_[farthest])) farthest = static_cast<int>(i);
+    out.max = distance_[farthest];
+    out.farthestPoint = points_[farthest];
+    out.maxUpperBound = out.max;
+    double integral = 0.0, integralSquared = 0.0;
+    for (const auto& cell : cells_) {
+      out.maxUpperBound = std::max(out.maxUpperBound, cell.bound);
+      out.area += cell.area;
+      const double d = distance_[cell.centroid];
+      integral += cell.area * d;
+      integralSquared += cell.area * d * d;
+    }
+    if (out.area > 0.0) {
+      out.mean = integral / out.area;
+      out.rms = std::sqrt(integralSquared / out.area);
+    }
+    out.certified = out.maxUpperBound <= out.max * (1.0 + relativeTolerance) + absoluteTolerance;
+    out.samples = queries_;
+    out.refinementRounds = rounds_;
+    return out;
+  }
+
+  double totalArea() const {
+    double area = 0.0;
+    for (const auto& cell : cells_) area += cell.area;
+    return area;
+  }
+
+ private:
+  int addSample(const Vec3& p, int hint) {
+    points_.push_back(p);
+    distance_.push_back(0.0);
+    face_.push_back(-1);
+    hint_.push_back(hint);
+    return static_cast<int>(points_.size() - 1);
+  }
+
+  void query(const std::vector<int>& samples) {
+    parallelFor(samples.size(), options_.threads, [&](std::size_t k) {
+      const int s = samples[k];
+      const auto r = to_.closest(points_[s], hint_[s]);
+      distance_[s] = r.distance;
+      face_[s] = r.face;
+    });
+    queries_ += samples.size();
+    for (const int s : samples) largest_ = std::max(largest_, distance_[s]);
+  }
+  void queryFrom(std::size_t first) {
+    std::vector<int> samples(points_.size() - first);
+    std::iota(samples.begin(), samples.end(), static_cast<int>(first));
+    query(samples);
+  }
+
+  double largest() const { return largest_; }
+
+  /// U = min over the closest triangles T of the cell's samples of max_i d(corner_i, T):
+  /// d(·, T) is convex, so its maximum over the cell is at a corner.
+  double bound(const Cell& cell) const {
+    const std::array<int, 4> candidates{face_[cell.corners[0]], face_[cell.corners[1]],
+                                        face_[cell.corners[2]], face_[cell.centroid]};
+    double best = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 4; ++k) {
+      const int t = candidates[k];
+      if (std::find(candidates.begin(), candidates.begin() + k, t) != candidates.begin() + k) continue;
+      double worst = 0.0;
+      for (const int c : cell.corners) {
+        worst = std::max(worst, face_[c] == t ? distance_[c] : to_.distanceToFace(points_[c], t));
+        if (worst >= best) break;
+      }
+      best = std::min(best, worst);
+    }
+    return best;
+  }
+
+  int midpoint(int a, int b) {
+    const auto key = (static_cast<std::uint64_t>(std::min(a, b)) << 32) | static_cast<std::uint32_t>(std::max(a, b));
+    const auto [it, inserted] = midpoints_.try_emplace(key, 0);
+    if (inserted) it->second = addSample(0.5 * (points_[a] + points_[b]), face_[a]);
+    return it->second;
+  }
+
+  /// Splits each selected cell 1-to-4 at its edge midpoints (the children replace it).
+  void split(const std::vector<int>& selected) {
+    const std::size_t firstSample = points_.size();
+    const std::size_t firstCell = cells_.size();
+    std::vector<int> changed;
+    for (const int i : selected) {
+      const Cell parent = cells_[i];
+      const auto [a, b, c] = parent.corners;
+      const int ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
+      const std::array<std::array<int, 3>, 4> children{{{a, ab, ca}, {ab, b, bc}, {ca, bc, c}, {ab, bc, ca}}};
+      for (int k = 0; k < 4; ++k) {
+        const auto& t = children[k];
+        const int centroid =
+            addSample((points_[t[0]] + points_[t[1]] + points_[t[2]]) / 3.0, face_[parent.centroid]);
+        const Cell child{t, centroid, parent.area / 4.0};
+        if (k == 0) {
+          cells_[i] = child;
+          changed.push_back(i);
+        } else {
+          cells_.push_back(child);
+        }
+      }
+    }
+    for (std::size_t i = firstCell; i < cells_.size(); ++i) changed.push_back(static_cast<int>(i));
+    queryFrom(firstSample);
+    for (const int i : changed) cells_[i].bound = bound(cells_[i]);
+  }
+
+  const ClosestPointQuery& to_;
+  const DistanceOptions& options_;
+  std::vector<Vec3> points_;
+  std::vector<double> distance_;
+  std::vector<int> face_;  ///< closest face of `to`, −1 for samples not queried
+  std::vector<int> hint_;
+  std::vector<Cell> cells_;
+  std::unordered_map<std::uint64_t, int> midpoints_;
+  double largest_ = 0.0;
+  std::size_t queries_ = 0;
+  int rounds_ = 0;
+};
+
+}  // namespace
+
+OneSidedDistance oneSidedDistance(const TriMesh& from, const ClosestPointQuery& to,
+                                  const DistanceOptions& options) {
+  options.validate();
+  const TriangleArrays surface(from);
+  if (surface.triangles.empty())
+    throw Error(ErrorCode::InvalidMesh, "cannot measure distances from a mesh without faces");
+  SurfaceSampler sampler(surface, to, options);
+  const double area = sampler.totalArea();
+  const std::size_t cells = std::max(surface.triangles.size(), options.minSamples);
+  const double maxCellArea = 2.0 * area / static_cast<double>(cells);
+  // Distances below this are rounding noise (coincident surfaces).
+  const double absoluteTolerance = 1e-9 * boundingBoxDiagonal(from);
+  sampler.refine(maxCellArea, absoluteTolerance);
+  return sampler.result(options.relativeTolerance, absoluteTolerance);
+}
+
+double TwoSidedDistance::hausdorff() const { return std::max(aToB.max, bToA.max); }
+double TwoSidedDistance::hausdorffUpperBound() const {
+  return std::max(aToB.maxUpperBound, bToA.maxUpperBound);
+}
+double TwoSidedDistance::mean() const {
+  const double area = aToB.area + bToA.area;
+  return area > 0.0 ? (aToB.mean * aToB.area + bToA.mean * bToA.area) / area : 0.0;
+}
+double TwoSidedDistance::rms() const {
+  const double area = aToB.area + bToA.area;
+  return area > 0.0
+             ? std::sqrt((aToB.rms * aToB.rms * aToB.area + bToA.rms * bToA.rms * bToA.area) / area)
+             : 0.0;
+}
+
+TwoSidedDistance twoSidedDistance(const TriMesh& a, const TriMesh& b, const DistanceOptions& options) {
+  options.validate();
+  const ClosestPointQuery toA(a), toB(b);
+  return {oneSidedDistance(a, toB, options), oneSidedDistance(b, toA, options)};
+}
+
+}  // namespace hexcover

@@ -1,0 +1,182 @@
+// Surface distances (core/metrics/hausdorff.h, measureQuality with a reference) on shapes whose
+// Hausdorff distance is known in closed form.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+
+#include "core/common/error.h"
+#include "core/mesh/primitives.h"
+#include "core/metrics/metrics.h"
+#include "tests/common/test_meshes.h"
+
+namespace hexcover {
+namespace {
+
+TriMesh scaled(TriMesh mesh, double factor) {
+  for (const auto vh : mesh.vertices()) mesh.set_point(vh, factor * mesh.point(vh));
+  return mesh;
+}
+
+/// Planar n × n vertex grid over [0, 1]² in z = 0, quads split along one diagonal.
+TriMesh unitSquare(int n) {
+  TriMesh mesh;
+  std::vector<TriMesh::VertexHandle> v;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      v.push_back(mesh.add_vertex({double(i) / (n - 1), double(j) / (n - 1), 0.0}));
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) {
+      const auto a = v[j * n + i], b = v[j * n + i + 1], c = v[(j + 1) * n + i + 1], d = v[(j + 1) * n + i];
+      mesh.add_face(a, b, c);
+      mesh.add_face(a, c, d);
+    }
+  return mesh;
+}
+
+TEST(MetricsDistance, SphereAgainstOnePercentLargerCopyIsOnePercentOfTheRadius) {
+  const double radius = 2.0;
+  const TriMesh sphere = makeIcosphere(4, radius);
+  const TriMesh larger = scaled(sphere, 1.01);
+  const QualityReport q = measureQuality(larger, &sphere);
+  ASSERT_TRUE(q.distance.has_value());
+  const double expectedPct = 100.0 * 0.01 * radius / boundingBoxDiagonal(sphere);
+  EXPECT_NEAR(q.distance->hausdorffPct, expectedPct, 0.01 * expectedPct);
+  EXPECT_TRUE(q.distance->hausdorffCertified);
+  EXPECT_GE(q.distance->hausdorffUpperBoundPct, q.distance->hausdorffPct);
+  // Faces of the larger copy are at 1.01·h from the centre, h ≤ R: the mean lies just below 1%.
+  EXPECT_LT(q.distance->meanPct, expectedPct);
+  EXPECT_GT(q.distance->meanPct, 0.98 * expectedPct);
+  EXPECT_GE(q.distance->rmsPct, q.distance->meanPct);
+  EXPECT_TRUE(*q.topologyMatchesReference);
+}
+
+TEST(MetricsDistance, MeshAgainstItselfIsZero) {
+  const TriMesh torus = makeTorus(2.0, 0.7, 40, 16);
+  const QualityReport q = measureQuality(torus, &torus);
+  ASSERT_TRUE(q.distance.has_value());
+  EXPECT_LT(q.distance->hausdorffPct, 1e-9);
+  EXPECT_LT(q.distance->hausdorffUpperBoundPct, 1e-6);
+  EXPECT_LT(q.distance->meanPct, 1e-9);
+  EXPECT_TRUE(q.distance->hausdorffCertified);
+  EXPECT_TRUE(*q.topologyMatchesReference);
+}
+
+TEST(MetricsDistance, LiftedVertexGivesTheLiftHeightExactly) {
+  const TriMesh flat = unitSquare(5);
+  TriMesh lifted = flat;
+  const double d = 0.07;
+  const auto center = TriMesh::VertexHandle(2 * 5 + 2);
+  lifted.set_point(center, lifted.point(center) + TriMesh::Point(0, 0, d));
+  const QualityReport q = measureQuality(lifted, &flat);
+  const double pct = 100.0 / boundingBoxDiagonal(flat);
+  EXPECT_NEAR(q.distance->hausdorffPct, pct * d, 1e-12);
+  EXPECT_NEAR(q.distance->resultToReferenceMaxPct, pct * d, 1e-12);  // the lifted vertex
+  // Every point of the flat square is closer to the bump than its height.
+  EXPECT_LT(q.distance->referenceToResultMaxPct, pct * d);
+  EXPECT_GT(q.distance->referenceToResultMaxPct, 0.5 * pct * d);
+  EXPECT_TRUE(q.distance->hausdorffCertified);
+}
+
+TEST(MetricsDistance, PeakInsideAFaceIsFoundByRefinement) {
+  // Flat equilateral triangle (split in two through a point that is not the centroid) against a
+  // tent over the same triangle with its apex at height h above the centroid c. The distance from
+  // the flat surface to the tent peaks at c, at r·h/√(r² + h²) (r: inradius), where no initial
+  // sample lies.
+  const double edge = 1.0, h = 0.2;
+  const Eigen::Vector3d v0(0, 0, 0), v1(edge, 0, 0), v2(0.5 * edge, 0.5 * std::sqrt(3.0) * edge, 0);
+  const Eigen::Vector3d c = (v0 + v1 + v2) / 3.0;
+  const Eigen::Vector3d s = v1 + 0.3 * (v2 - v1);
+  TriMesh flat;
+  {
+    const auto a = flat.add_vertex(toOpenMesh(v0)), b = flat.add_vertex(toOpenMesh(v1)),
+               m = flat.add_vertex(toOpenMesh(s)), d = flat.add_vertex(toOpenMesh(v2));
+    flat.add_face(a, b, m);
+    flat.add_face(a, m, d);
+  }
+  TriMesh tent;
+  {
+    const auto a = tent.add_vertex(toOpenMesh(v0)), b = tent.add_vertex(toOpenMesh(v1)),
+               d = tent.add_vertex(toOpenMesh(v2)),
+               apex = tent.add_vertex(toOpenMesh(c + Eigen::Vector3d(0, 0, h)));
+    tent.add_face(a, b, apex);
+    tent.add_face(b, d, apex);
+    tent.add_face(d, a, apex);
+  }
+  const double r = edge / (2.0 * std::sqrt(3.0));
+  const double expected = r * h / std::sqrt(r * r + h * h);
+
+  DistanceOptions options;
+  options.minSamples = 1;  // only vertices and face centroids before refinement
+  const ClosestPointQuery toTent(tent);
+  const OneSidedDistance d = oneSidedDistance(flat, toTent, options);
+  EXPECT_GT(d.refinementRounds, 0);
+  EXPECT_NEAR(d.max, expected, 0.01 * expected);
+  EXPECT_LE(d.max, expected * (1.0 + 1e-12));      // a sampled value never exceeds the supremum
+  EXPECT_GE(d.maxUpperBound, expected * (1.0 - 1e-12));  // the bound is a true upper bound
+  EXPECT_TRUE(d.certified);
+  EXPECT_LT((d.farthestPoint - c).norm(), 0.05 * edge);
+
+  // The tent's apex is at height h above the flat triangle.
+  const ClosestPointQuery toFlat(flat);
+  EXPECT_NEAR(oneSidedDistance(tent, toFlat, options).max, h, 1e-12);
+}
+
+TEST(MetricsDistance, ClosestPointMatchesBruteForce) {
+  const TriMesh torus = makeTorus(2.0, 0.6, 24, 10);
+  const ClosestPointQuery query(torus);
+  for (int k = 0; k < 200; ++k) {
+    // Deterministic points spread through and around the torus.
+    const double t = 0.1 * k;
+    const Eigen::Vector3d p(3.0 * std::sin(1.3 * t), 3.0 * std::cos(0.7 * t), std::sin(2.9 * t));
+    double brute = std::numeric_limits<double>::infinity();
+    for (const auto fh : torus.faces()) brute = std::min(brute, query.distanceToFace(p, fh.idx()));
+    const auto result = query.closest(p);
+    EXPECT_NEAR(result.distance, brute, 1e-12);
+    EXPECT_NEAR((result.point - p).norm(), brute, 1e-12);
+    // A hint, good or bad, does not change the answer.
+    EXPECT_NEAR(query.closest(p, k % static_cast<int>(torus.n_faces())).distance, brute, 1e-12);
+  }
+}
+
+TEST(MetricsDistance, ResultsDoNotDependOnThreadCount) {
+  const TriMesh sphere = makeIcosphere(4);
+  TriMesh bumpy = sphere;
+  for (const auto vh : bumpy.vertices()) {
+    const auto p = bumpy.point(vh);
+    bumpy.set_point(vh, p * (1.0 + 0.02 * std::sin(5 * p[0]) * std::cos(3 * p[1])));
+  }
+  DistanceOptions one, two;
+  one.threads = 1;
+  two.threads = 2;
+  const TwoSidedDistance a = twoSidedDistance(bumpy, sphere, one);
+  const TwoSidedDistance b = twoSidedDistance(bumpy, sphere, two);
+  EXPECT_EQ(a.hausdorff(), b.hausdorff());
+  EXPECT_EQ(a.mean(), b.mean());
+  EXPECT_EQ(a.aToB.samples, b.aToB.samples);
+}
+
+TEST(MetricsDistance, TopologyMismatchIsReported) {
+  const TriMesh sphere = makeIcosphere(2);
+  const TriMesh torus = makeTorus(1.0, 0.3, 20, 10);
+  const QualityReport q = measureQuality(torus, &sphere);
+  ASSERT_TRUE(q.topologyMatchesReference.has_value());
+  EXPECT_FALSE(*q.topologyMatchesReference);
+}
+
+TEST(MetricsDistance, RejectsBadOptions) {
+  MetricsOptions options;
+  options.distance.relativeTolerance = 0.0;
+  const TriMesh sphere = makeIcosphere(1);
+  try {
+    measureQuality(sphere, &sphere, options);
+    FAIL() << "expected an Error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::InvalidOption);
+    EXPECT_NE(std::string(e.what()).find("relativeTolerance"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace hexcover
