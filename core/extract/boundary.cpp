@@ -1,0 +1,228 @@
+#include "core/extract/boundary.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hexcover::extract_detail {
+namespace {
+
+std::uint64_t edgeKey(int from, int to) {
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(from)) << 32) |
+         static_cast<std::uint32_t>(to);
+}
+
+/// Closest point on segment [a, b] to p: returns the parameter in [0, 1].
+double closestOnSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                        const Eigen::Vector3d& b) {
+  const Eigen::Vector3d d = b - a;
+  const double len2 = d.squaredNorm();
+  if (len2 <= 0.0) return 0.0;
+  return std::clamp((p - a).dot(d) / len2, 0.0, 1.0);
+}
+
+}  // namespace
+
+std::vector<std::vector<int>> traceBoundaryLoops(const std::vector<Triangle>& triangles) {
+  // Directed edge (u, v) -> the third vertex of its triangle.
+  std::unordered_map<std::uint64_t, int> apex;
+  apex.reserve(3 * triangles.size());
+  for (const auto& t : triangles)
+    for (int k = 0; k < 3; ++k) apex.emplace(edgeKey(t[k], t[(k + 1) % 3]), t[(k + 2) % 3]);
+
+  std::vector<std::array<int, 2>> boundaryEdges;
+  for (const auto& t : triangles)
+    for (int k = 0; k < 3; ++k)
+      if (!apex.count(edgeKey(t[(k + 1) % 3], t[k]))) boundaryEdges.push_back({t[k], t[(k + 1) % 3]});
+
+  // The boundary edge that follows (u, v): rotate about v through the fan of (u, v)'s triangle.
+  const auto nextEdge = [&](int u, int v) {
+    int w = apex.at(edgeKey(u, v));
+    for (;;) {
+      const auto across = apex.find(edgeKey(w, v));
+      if (across == apex.end()) return std::array<int, 2>{v, w};
+      w = across->second;
+    }
+  };
+
+  std::unordered_map<std::uint64_t, bool> used;
+  used.reserve(boundaryEdges.size());
+  std::vector<std::vector<int>> loops;
+  for (const auto& start : boundaryEdges) {
+    if (used.count(edgeKey(start[0], start[1]))) continue;
+    std::vector<int> loop;
+    std::array<int, 2> edge = start;
+    while (!used.count(edgeKey(edge[0], edge[1]))) {
+      used.emplace(edgeKey(edge[0], edge[1]), true);
+      loop.push_back(edge[0]);
+      edge = nextEdge(edge[0], edge[1]);
+    }
+    loops.push_back(std::move(loop));
+  }
+  return loops;
+}
+
+BoundaryIndex::BoundaryIndex(std::vector<std::vector<Eigen::Vector3d>> loops, double cellSize)
+    : loops_(std::move(loops)), cell_(cellSize) {
+  arcs_.reserve(loops_.size());
+  for (int i = 0; i < static_cast<int>(loops_.size()); ++i) {
+    const auto& loop = loops_[i];
+    std::vector<double> arc(loop.size() + 1, 0.0);
+    for (std::size_t k = 0; k < loop.size(); ++k) {
+      const Eigen::Vector3d& a = loop[k];
+      const Eigen::Vector3d& b = loop[(k + 1) % loop.size()];
+      arc[k + 1] = arc[k] + (b - a).norm();
+      // Register the segment in every cell its bounding box touches.
+      const Eigen::Vector3d lo = a.cwiseMin(b) / cell_, hi = a.cwiseMax(b) / cell_;
+      for (auto x = std::floor(lo.x()); x <= std::floor(hi.x()); ++x)
+        for (auto y = std::floor(lo.y()); y <= std::floor(hi.y()); ++y)
+          for (auto z = std::floor(lo.z()); z <= std::floor(hi.z()); ++z)
+            grid_[cellKey(Eigen::Vector3d(x + 0.5, y + 0.5, z + 0.5) * cell_)].push_back(
+                {i, static_cast<int>(k)});
+    }
+    arcs_.push_back(std::move(arc));
+  }
+}
+
+std::uint64_t BoundaryIndex::cellKey(const Eigen::Vector3d& p) const {
+  const auto c = [&](double x) {
+    return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(x / cell_)) & 0x1FFFFF);
+  };
+  return (c(p.x()) << 42) | (c(p.y()) << 21) | c(p.z());
+}
+
+BoundaryIndex::Hit BoundaryIndex::nearest(const Eigen::Vector3d& p, double radius,
+                                          int onlyLoop) const {
+  Hit best;
+  const int reach = static_cast<int>(std::ceil(radius / cell_));
+  for (int dx = -reach; dx <= reach; ++dx)
+    for (int dy = -reach; dy <= reach; ++dy)
+      for (int dz = -reach; dz <= reach; ++dz) {
+        const auto it = grid_.find(cellKey(p + cell_ * Eigen::Vector3d(dx, dy, dz)));
+        if (it == grid_.end()) continue;
+        for (const auto& [loop, k] : it->second) {
+          if (onlyLoop >= 0 && loop != onlyLoop) continue;
+          const auto& points = loops_[loop];
+          const Eigen::Vector3d& a = points[k];
+          const Eigen::Vector3d& b = points[(k + 1) % points.size()];
+          const double t = closestOnSegment(p, a, b);
+          const double d = (a + t * (b - a) - p).norm();
+          // Ties (the same segment seen from several cells, shared end points) go to the
+          // lowest (loop, segment) so the answer does not depend on the grid's order.
+          if (d < best.distance || (d == best.distance && loop < best.loop)) {
+            best = {loop, d, arcs_[loop][k] + t * (arcs_[loop][k + 1] - arcs_[loop][k])};
+          }
+        }
+      }
+  if (best.distance > radius) return {};
+  return best;
+}
+
+Eigen::Vector3d BoundaryIndex::pointAt(int i, double s) const {
+  const auto& arc = arcs_[i];
+  const auto& points = loops_[i];
+  const auto it = std::upper_bound(arc.begin(), arc.end(), s);
+  const std::size_t k =
+      std::min<std::size_t>(std::max<std::ptrdiff_t>(it - arc.begin() - 1, 0), points.size() - 1);
+  const double len = arc[k + 1] - arc[k];
+  const double t = len > 0.0 ? std::clamp((s - arc[k]) / len, 0.0, 1.0) : 0.0;
+  return points[k] + t * (points[(k + 1) % points.size()] - points[k]);
+}
+
+std::vector<double> sampleBoundaryLoop(const BoundaryIndex& index, int loop, double spacing,
+                                       double sharpAngleDeg) {
+  const auto& points = index.loop(loop);
+  const std::size_t n = points.size();
+  const double total = index.loopLength(loop);
+  // Arc positions of the sharp corners (turning angle above the threshold).
+  std::vector<double> corners;
+  double arc = 0.0;
+  const double cosSharp = std::cos(sharpAngleDeg * M_PI / 180.0);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Eigen::Vector3d in = points[k] - points[(k + n - 1) % n];
+    const Eigen::Vector3d out = points[(k + 1) % n] - points[k];
+    if (in.norm() > 0.0 && out.norm() > 0.0 && in.normalized().dot(out.normalized()) < cosSharp)
+      corners.push_back(arc);
+    arc += out.norm();
+  }
+  if (corners.empty()) corners.push_back(0.0);
+  std::vector<double> samples;
+  for (std::size_t c = 0; c < corners.size(); ++c) {
+    const double from = corners[c];
+    const double to = c + 1 < corners.size() ? corners[c + 1] : corners[0] + total;
+    const int pieces = std::max(1, static_cast<int>(std::lround((to - from) / spacing)));
+    for (int i = 0; i < pieces; ++i) samples.push_back(std::fmod(from + (to - from) * i / pieces, total));
+  }
+  if (samples.size() < 3) {
+    samples.clear();
+    for (int i = 0; i < 3; ++i) samples.push_back(corners[0] + total * i / 3.0);
+    for (double& s : samples) s = std::fmod(s, total);
+  }
+  std::sort(samples.begin(), samples.end());
+  return samples;
+}
+
+void stitchStrip(const std::vector<int>& outer, const std::vector<double>& outerArc,
+                 const std::vector<int>& front, const std::vector<double>& frontArc,
+                 double loopLength, std::vector<Triangle>& out) {
+  const std::size_t m = outer.size(), n = front.size();
+  // Start the front at the vertex whose position along the loop is nearest the first sample,
+  // then unwrap its positions into a non-decreasing sequence beginning near outerArc[0].
+  const auto wrapped = [&](double d) { return d - loopLength * std::round(d / loopLength); };
+  std::size_t start = 0;
+  for (std::size_t j = 1; j < n; ++j)
+    if (std::abs(wrapped(frontArc[j] - outerArc[0])) <
+        std::abs(wrapped(frontArc[start] - outerArc[0])))
+      start = j;
+  std::vector<double> t(n + 1);
+  t[0] = outerArc[0] + wrapped(frontArc[start] - outerArc[0]);
+  for (std::size_t j = 1; j < n; ++j) {
+    const double step = wrapped(frontArc[(start + j) % n] - frontArc[(start + j - 1) % n]);
+    t[j] = std::max(t[j - 1], t[j - 1] + step);
+  }
+  t[n] = t[0] + loopLength;
+  std::vector<double> s(outerArc);
+  s.push_back(outerArc[0] + loopLength);
+
+  // Merge the two sequences by position: advance the side whose next vertex comes first.
+  std::size_t i = 0, j = 0;
+  while (i < m || j < n) {
+    const bool advanceOuter = j == n || (i < m && s[i + 1] <= t[j + 1]);
+    const int l = front[(start + j) % n];
+    if (advanceOuter) {
+      out.push_back({outer[i], outer[(i + 1) % m], l});
+      ++i;
+    } else {
+      out.push_back({front[(start + j + 1) % n], l, outer[i % m]});
+      ++j;
+    }
+  }
+}
+
+int fillHole(const std::vector<int>& loop, std::vector<Eigen::Vector3d>& positions,
+             std::vector<Triangle>& out) {
+  const std::size_t n = loop.size();
+  // The loop runs with the existing triangles on its left: the hole's triangles run backwards.
+  if (n == 3) {
+    out.push_back({loop[2], loop[1], loop[0]});
+    return 1;
+  }
+  if (n == 4) {
+    const auto& p = positions;
+    if ((p[loop[0]] - p[loop[2]]).norm() <= (p[loop[1]] - p[loop[3]]).norm()) {
+      out.push_back({loop[2], loop[1], loop[0]});
+      out.push_back({loop[0], loop[3], loop[2]});
+    } else {
+      out.push_back({loop[3], loop[1], loop[0]});
+      out.push_back({loop[3], loop[2], loop[1]});
+    }
+    return 2;
+  }
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const int v : loop) centroid += positions[v];
+  const int center = static_cast<int>(positions.size());
+  positions.push_back(centroid / static_cast<double>(n));
+  for (std::size_t k = 0; k < n; ++k) out.push_back({loop[(k + 1) % n], loop[k], center});
+  return static_cast<int>(n);
+}
+
+}  // namespace hexcover::extract_detail

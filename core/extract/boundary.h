@@ -1,0 +1,73 @@
+#pragma once
+// Boundary and hole handling on indexed triangle sets (internal to core/extract): boundary loops
+// of the lattice triangles, nearest points on the input boundary, resampling of an input boundary
+// loop, the strip between a lattice front and the input boundary, and hole filling.
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <unordered_map>
+#include <vector>
+
+namespace hexcover::extract_detail {
+
+using Triangle = std::array<int, 3>;
+
+/// Closed boundary loops of a triangle set in which every directed edge belongs to at most one
+/// triangle. Each loop lists its vertices in the triangles' direction (triangles on the left);
+/// at a vertex where several fans meet, each loop stays in the fan it arrived in. Deterministic:
+/// loops start at the first boundary edge in triangle order.
+std::vector<std::vector<int>> traceBoundaryLoops(const std::vector<Triangle>& triangles);
+
+/// The input surface's boundary loops as polylines, with a uniform grid for nearest-point queries.
+class BoundaryIndex {
+ public:
+  /// loops[i]: the points of closed loop i in order (the segment from the last to the first
+  /// point closes it). cellSize > 0: grid spacing (about the query radius).
+  BoundaryIndex(std::vector<std::vector<Eigen::Vector3d>> loops, double cellSize);
+
+  struct Hit {
+    int loop = -1;  ///< -1: nothing within the radius
+    double distance = std::numeric_limits<double>::infinity();
+    double arc = 0.0;  ///< arc length of the nearest point from the loop's first point
+  };
+  /// Nearest point of any loop (or only of `onlyLoop` when ≥ 0) within `radius` of p.
+  Hit nearest(const Eigen::Vector3d& p, double radius, int onlyLoop = -1) const;
+
+  int loopCount() const { return static_cast<int>(loops_.size()); }
+  const std::vector<Eigen::Vector3d>& loop(int i) const { return loops_[i]; }
+  double loopLength(int i) const { return arcs_[i].back(); }
+  /// The point at arc length s ∈ [0, loopLength(i)] of loop i.
+  Eigen::Vector3d pointAt(int i, double s) const;
+
+ private:
+  std::vector<std::vector<Eigen::Vector3d>> loops_;
+  std::vector<std::vector<double>> arcs_;  ///< per loop: cumulative length at each point, + total
+  double cell_;
+  std::unordered_map<std::uint64_t, std::vector<std::array<int, 2>>> grid_;  ///< {loop, segment}
+  std::uint64_t cellKey(const Eigen::Vector3d& p) const;
+};
+
+/// Arc-length positions of the samples that replace input boundary loop `loop`: about one per
+/// `spacing`, always including the points whose polyline turns by more than `sharpAngleDeg`
+/// (sharp corners), at least 3. Ascending in [0, loopLength).
+std::vector<double> sampleBoundaryLoop(const BoundaryIndex& index, int loop, double spacing,
+                                       double sharpAngleDeg);
+
+/// Triangulates the strip between an outer loop (samples on the input boundary, the surface on
+/// its left) and an inner front (a boundary loop of the lattice triangles, which lie on its left),
+/// both closed and running the same way. outerArc: ascending arc positions of the samples;
+/// frontArc: arc positions of the front vertices' nearest points on the same loop; loopLength the
+/// loop's length. Appends consistently oriented triangles to `out`.
+void stitchStrip(const std::vector<int>& outer, const std::vector<double>& outerArc,
+                 const std::vector<int>& front, const std::vector<double>& frontArc,
+                 double loopLength, std::vector<Triangle>& out);
+
+/// Closes a hole bounded by `loop` (a boundary loop of the triangles, triangles on its left):
+/// one triangle for 3 vertices, the shorter diagonal for 4, else a fan around a new vertex at the
+/// loop's centroid (appended to `positions`). Appends the triangles to `out`; returns how many.
+int fillHole(const std::vector<int>& loop, std::vector<Eigen::Vector3d>& positions,
+             std::vector<Triangle>& out);
+
+}  // namespace hexcover::extract_detail

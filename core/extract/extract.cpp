@@ -1,0 +1,654 @@
+#include "core/extract/extract.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <string>
+#include <unordered_map>
+
+#include "core/common/error.h"
+#include "core/extract/boundary.h"
+#include "core/extract/exact_lattice.h"
+
+namespace hexcover {
+
+using namespace extract_detail;
+
+void ExtractOptions::validate() const {
+  if (!(boundarySnapDistance > 0.0 && boundarySnapDistance < 1.0))
+    throw Error(ErrorCode::InvalidOption, "boundarySnapDistance must be in (0, 1), got " +
+                                              std::to_string(boundarySnapDistance));
+  if (!(sharpBoundaryAngle >= 0.0 && sharpBoundaryAngle <= 180.0))
+    throw Error(ErrorCode::InvalidOption, "sharpBoundaryAngle must be in [0, 180] degrees, got " +
+                                              std::to_string(sharpBoundaryAngle));
+}
+
+namespace {
+
+using HH = TriMesh::HalfedgeHandle;
+using FH = TriMesh::FaceHandle;
+using VH = TriMesh::VertexHandle;
+
+/// Sanitized parameterization: fixed-point corner coordinates on which the recomputed integer
+/// transitions hold exactly (algorithm notes, "Extraction": sanitize first).
+struct ExactChart {
+  std::vector<FixedPoint> corner;    ///< #halfedges: to_vertex(h) in face(h)
+  std::vector<Transition> crossing;  ///< #E: chart of face(halfedge(e,0)) -> chart of the other
+  std::vector<int> orientation;      ///< #F: +1 counter-clockwise, 0 degenerate, -1 flipped
+
+  /// The transition from face(h)'s chart into the chart of the face across h.
+  Transition across(const TriMesh& mesh, HH h) const {
+    const auto e = mesh.edge_handle(h);
+    return mesh.halfedge_handle(e, 0) == h ? crossing[e.idx()] : crossing[e.idx()].inverse();
+  }
+};
+
+/// Lattice coordinates (in face(h)) of from_vertex(h): the corner of the previous halfedge.
+Eigen::Vector2d fromCoords(const TriMesh& mesh, const Parameterization& param, HH h) {
+  return param.cornerCoords[mesh.prev_halfedge_handle(h).idx()];
+}
+
+/// Squared length of a lattice-coordinate vector in the plane (Gram matrix [[1, ½], [½, 1]]).
+double planeNorm2(const Eigen::Vector2d& d) { return d.x() * d.x() + d.x() * d.y() + d.y() * d.y(); }
+
+/// Step 1a: each interior edge's transition from the corner coordinates on both sides.
+std::vector<Transition> recomputeTransitions(const TriMesh& mesh, const Parameterization& param,
+                                             ExtractionReport& report) {
+  std::vector<Transition> crossing(mesh.n_edges());
+  for (const auto e : mesh.edges()) {
+    if (mesh.is_boundary(e)) continue;
+    const HH h0 = mesh.halfedge_handle(e, 0), h1 = mesh.halfedge_handle(e, 1);
+    // h0 runs A -> B in f0, h1 runs B -> A in f1.
+    const Eigen::Vector2d a0 = fromCoords(mesh, param, h0), b0 = param.cornerCoords[h0.idx()];
+    const Eigen::Vector2d b1 = fromCoords(mesh, param, h1), a1 = param.cornerCoords[h1.idx()];
+    const EdgeTransition& given = param.edgeTransition[e.idx()];
+    int best = given.rotation;
+    const Eigen::Vector2d d0 = b0 - a0, d1 = b1 - a1;
+    if (planeNorm2(d0) > 1e-18) {
+      double bestResidual = planeNorm2(rotate(d0, best) - d1);
+      for (int r = 0; r < 6; ++r) {
+        const double residual = planeNorm2(rotate(d0, r) - d1);
+        if (residual < bestResidual - 1e-12) best = r, bestResidual = residual;
+      }
+    }
+    const Eigen::Vector2d t = 0.5 * ((a1 - rotate(a0, best)) + (b1 - rotate(b0, best)));
+    Transition transition{best, {std::llround(t.x()), std::llround(t.y())}};
+    if (transition.rotation != given.rotation ||
+        transition.translation != given.translation.cast<std::int64_t>())
+      ++report.transitionsCorrected;
+    crossing[e.idx()] = transition;
+  }
+  return crossing;
+}
+
+/// The incoming halfedges of v in faces, in counter-clockwise order; for a boundary vertex from
+/// the face after the boundary gap. Returns whether the fan closes (interior vertex).
+bool incomingFan(const TriMesh& mesh, VH v, std::vector<HH>& fan) {
+  fan.clear();
+  HH start;
+  for (const auto h : mesh.vih_range(v))
+    if (!mesh.is_boundary(h) && mesh.is_boundary(mesh.opposite_halfedge_handle(h))) start = h;
+  const bool closed = !start.is_valid();
+  if (closed) {
+    for (const auto h : mesh.vih_range(v)) {
+      start = h;
+      break;
+    }
+  }
+  if (!start.is_valid()) return false;
+  // Counter-clockwise about v: from h (into v in f), cross the edge of next(h) into g.
+  HH h = start;
+  do {
+    fan.push_back(h);
+    h = mesh.opposite_halfedge_handle(mesh.next_halfedge_handle(h));
+  } while (h != start && !mesh.is_boundary(h));
+  return closed;
+}
+
+/// Step 1b: fixed-point corner coordinates, propagated around each vertex through the exact
+/// transitions; a vertex whose holonomy rotates sits exactly on the holonomy's fixed point.
+ExactChart sanitize(const TriMesh& mesh, const Parameterization& param, ExtractionReport& report,
+                    const RunContext& context) {
+  ExactChart chart;
+  chart.crossing = recomputeTransitions(mesh, param, report);
+  chart.corner.assign(mesh.n_halfedges(), FixedPoint{});
+  std::vector<HH> fan;
+  for (const auto v : mesh.vertices()) {
+    if ((v.idx() & 4095) == 0) context.throwIfCanceled();
+    const bool closed = incomingFan(mesh, v, fan);
+    if (fan.empty()) continue;
+    FixedPoint z = quantize(param.cornerCoords[fan[0].idx()]);
+    if (closed) {
+      // Holonomy: the composed transitions once around v, from fan[0]'s chart to itself.
+      Transition holonomy;
+      for (const HH h : fan)
+        holonomy = chart.across(mesh, mesh.next_halfedge_handle(h)).after(holonomy);
+      if (holonomy.rotation != 0)
+        z = fixedPoint(holonomy);
+      else if (holonomy.translation != Eigen::Matrix<std::int64_t, 2, 1>::Zero())
+        ++report.inconsistentVertices;
+    }
+    for (const HH h : fan) {
+      chart.corner[h.idx()] = z;
+      z = chart.across(mesh, mesh.next_halfedge_handle(h))(z);
+    }
+  }
+  chart.orientation.assign(mesh.n_faces(), 0);
+  for (const auto f : mesh.faces()) {
+    const HH h0 = mesh.halfedge_handle(f), h1 = mesh.next_halfedge_handle(h0),
+             h2 = mesh.next_halfedge_handle(h1);
+    const __int128 o = orient(chart.corner[h0.idx()], chart.corner[h1.idx()], chart.corner[h2.idx()]);
+    chart.orientation[f.idx()] = o > 0 ? 1 : (o < 0 ? -1 : 0);
+    if (o < 0) ++report.flippedParamTriangles;
+    if (o == 0) ++report.degenerateParamTriangles;
+  }
+  return chart;
+}
+
+/// (face, a, b): lattice point (a, b) in the chart of a face.
+struct FacePoint {
+  int face;
+  std::int64_t a, b;
+  friend bool operator==(const FacePoint&, const FacePoint&) = default;
+};
+struct FacePointHash {
+  std::size_t operator()(const FacePoint& p) const {
+    std::uint64_t h = static_cast<std::uint64_t>(p.face) * 0x9E3779B97F4A7C15ull;
+    h ^= static_cast<std::uint64_t>(p.a) + 0x7F4A7C159E3779B9ull + (h << 6) + (h >> 2);
+    h ^= static_cast<std::uint64_t>(p.b) + 0x94D049BB133111EBull + (h << 6) + (h >> 2);
+    return static_cast<std::size_t>(h);
+  }
+};
+
+FacePoint facePoint(int face, const FixedPoint& p) { return {face, p.a / kUnit, p.b / kUnit}; }
+
+/// The output under construction: vertices (with the input component they belong to) and
+/// triangles as indices.
+struct Assembly {
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<int> component;
+  std::vector<Triangle> triangles;
+};
+
+class LatticeExtractor {
+ public:
+  LatticeExtractor(const TriMesh& mesh, const ExactChart& chart, const std::vector<int>& component,
+                   ExtractionReport& report, const RunContext& context)
+      : mesh_(mesh), chart_(chart), component_(component), report_(report), context_(context) {}
+
+  /// Step 2: every lattice point of every counter-clockwise parameter triangle, once.
+  void emitPoints(Assembly& out) {
+    std::vector<int> vertexPoint(mesh_.n_vertices(), -1);
+    points_.reserve(mesh_.n_faces());
+    for (const auto f : mesh_.faces()) {
+      if ((f.idx() & 4095) == 0) context_.throwIfCanceled();
+      if (chart_.orientation[f.idx()] <= 0) continue;
+      const auto [h, q] = corners(f);
+      const __int128 area = orient(q[0], q[1], q[2]);
+      const auto [lo, hi] = bounds(q);
+      for (std::int64_t a = ceilUnits(lo.a); a <= floorUnits(hi.a); ++a) {
+        for (std::int64_t b = ceilUnits(lo.b); b <= floorUnits(hi.b); ++b) {
+          const FixedPoint z = latticePoint(a, b);
+          // s[k]: orientation of z against the edge of halfedge h[k] (corner k-1 -> corner k),
+          // proportional to the barycentric weight of corner k+1.
+          std::array<__int128, 3> s;
+          int zeros = 0;
+          bool inside = true;
+          for (int k = 0; k < 3; ++k) {
+            s[k] = orient(q[(k + 2) % 3], q[k], z);
+            inside = inside && s[k] >= 0;
+            zeros += s[k] == 0;
+          }
+          if (!inside) continue;
+          const FacePoint key = facePoint(f.idx(), z);
+          int id = -1;
+          if (zeros == 2) {  // a corner: the mesh vertex itself
+            int k = 0;
+            while (!(q[k] == z)) ++k;
+            const VH v = mesh_.to_vertex_handle(h[k]);
+            if (vertexPoint[v.idx()] < 0)
+              vertexPoint[v.idx()] = addVertex(out, toEigen(mesh_.point(v)), f.idx());
+            id = vertexPoint[v.idx()];
+          } else if (zeros == 1) {  // on an edge: shared with the face across it
+            int k = 0;
+            while (s[k] != 0) ++k;
+            const HH opposite = mesh_.opposite_halfedge_handle(h[k]);
+            const FH g = mesh_.face_handle(opposite);
+            if (g.is_valid() && chart_.orientation[g.idx()] > 0) {
+              const FacePoint across = facePoint(g.idx(), chart_.across(mesh_, h[k])(z));
+              const auto found = points_.find(across);
+              id = found != points_.end() ? found->second
+                                          : addVertex(out, interpolate(h, s, area), f.idx());
+              points_.emplace(across, id);
+            }
+          }
+          if (id < 0) id = addVertex(out, interpolate(h, s, area), f.idx());
+          points_.emplace(key, id);
+        }
+      }
+    }
+    report_.latticePoints = static_cast<long long>(out.positions.size());
+  }
+
+  /// Step 3: every unit lattice triangle whose centroid a counter-clockwise parameter triangle
+  /// owns, with its corners found by walking from the centroid.
+  void emitTriangles(Assembly& out) {
+    for (const auto f : mesh_.faces()) {
+      if ((f.idx() & 4095) == 0) context_.throwIfCanceled();
+      if (chart_.orientation[f.idx()] <= 0) continue;
+      const auto [h, q] = corners(f);
+      const auto [lo, hi] = bounds(q);
+      for (std::int64_t a = floorUnits(lo.a) - 1; a <= ceilUnits(hi.a); ++a) {
+        for (std::int64_t b = floorUnits(lo.b) - 1; b <= ceilUnits(hi.b); ++b) {
+          for (const int third : {1, 2}) {
+            // Centroid (a + third/3, b + third/3) in fixed point (kUnit = 3 · 2^24).
+            const FixedPoint c{a * kUnit + third * (kUnit / 3), b * kUnit + third * (kUnit / 3)};
+            if (!ownsCentroid(f, h, q, c)) continue;
+            const std::array<FixedPoint, 3> corner =
+                third == 1 ? std::array<FixedPoint, 3>{latticePoint(a, b), latticePoint(a + 1, b),
+                                                       latticePoint(a, b + 1)}
+                           : std::array<FixedPoint, 3>{latticePoint(a + 1, b),
+                                                       latticePoint(a + 1, b + 1),
+                                                       latticePoint(a, b + 1)};
+            Triangle t;
+            Walk end = Walk::Found;
+            for (int k = 0; k < 3 && end == Walk::Found; ++k) end = walk(f, c, corner[k], t[k]);
+            if (end == Walk::Found) {
+              out.triangles.push_back(t);
+              ++report_.latticeTriangles;
+            } else if (end == Walk::LeftSurface) {
+              ++report_.boundaryClipped;
+            } else {
+              ++report_.uncoveredTriangles;
+            }
+          }
+        }
+      }
+    }
+  }
+
+ private:
+  enum class Walk { Found, LeftSurface, Blocked };
+
+  int addVertex(Assembly& out, const Eigen::Vector3d& p, int face) {
+    out.positions.push_back(p);
+    out.component.push_back(component_[face]);
+    return static_cast<int>(out.positions.size()) - 1;
+  }
+
+  std::pair<std::array<HH, 3>, std::array<FixedPoint, 3>> corners(FH f) const {
+    const HH h0 = mesh_.halfedge_handle(f), h1 = mesh_.next_halfedge_handle(h0),
+             h2 = mesh_.next_halfedge_handle(h1);
+    return {{h0, h1, h2}, {chart_.corner[h0.idx()], chart_.corner[h1.idx()], chart_.corner[h2.idx()]}};
+  }
+
+  static std::pair<FixedPoint, FixedPoint> bounds(const std::array<FixedPoint, 3>& q) {
+    return {{std::min({q[0].a, q[1].a, q[2].a}), std::min({q[0].b, q[1].b, q[2].b})},
+            {std::max({q[0].a, q[1].a, q[2].a}), std::max({q[0].b, q[1].b, q[2].b})}};
+  }
+
+  /// Barycentric interpolation of the corner positions; s[k] weighs corner k+1.
+  Eigen::Vector3d interpolate(const std::array<HH, 3>& h, const std::array<__int128, 3>& s,
+                              __int128 area) const {
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k)
+      p += (static_cast<double>(s[k]) / static_cast<double>(area)) *
+           toEigen(mesh_.point(mesh_.to_vertex_handle(h[(k + 1) % 3])));
+    return p;
+  }
+
+  /// Whether f is the one face that emits the unit triangle with centroid c: c is in f's closed
+  /// triangle, and when it is on an edge or a vertex, f has the lowest index among the
+  /// counter-clockwise faces that contain it.
+  bool ownsCentroid(FH f, const std::array<HH, 3>& h, const std::array<FixedPoint, 3>& q,
+                    const FixedPoint& c) const {
+    int zeros = 0, onEdge = -1;
+    for (int k = 0; k < 3; ++k) {
+      const __int128 s = orient(q[(k + 2) % 3], q[k], c);
+      if (s < 0) return false;
+      if (s == 0) ++zeros, onEdge = k;
+    }
+    if (zeros == 0) return true;
+    if (zeros == 1) {
+      const FH g = mesh_.face_handle(mesh_.opposite_halfedge_handle(h[onEdge]));
+      return !g.is_valid() || chart_.orientation[g.idx()] <= 0 || f.idx() < g.idx();
+    }
+    int k = 0;
+    while (!(q[k] == c)) ++k;
+    for (const auto g : mesh_.vf_range(mesh_.to_vertex_handle(h[k])))
+      if (chart_.orientation[g.idx()] > 0 && g.idx() < f.idx()) return false;
+    return true;
+  }
+
+  /// Walks the segment from `from` (in f's closed triangle) to `target` across parameter
+  /// triangles, applying the transitions, until a triangle contains `target`; `vertex` is then
+  /// the lattice point emitted for it.
+  Walk walk(FH f, FixedPoint from, FixedPoint target, int& vertex) const {
+    constexpr int kMaxSteps = 256;
+    for (int step = 0; step < kMaxSteps; ++step) {
+      const auto [h, q] = corners(f);
+      std::array<__int128, 3> s;
+      for (int k = 0; k < 3; ++k) s[k] = orient(q[(k + 2) % 3], q[k], target);
+      if (s[0] >= 0 && s[1] >= 0 && s[2] >= 0) {
+        const auto found = points_.find(facePoint(f.idx(), target));
+        if (found == points_.end()) return Walk::Blocked;
+        vertex = found->second;
+        return Walk::Found;
+      }
+      // Leave through the edge the segment crosses: target beyond it, its start corner on the
+      // right of the segment and its end corner on the left.
+      int exit = -1;
+      for (int k = 0; k < 3 && exit < 0; ++k)
+        if (s[k] < 0 && orient(from, target, q[(k + 2) % 3]) <= 0 && orient(from, target, q[k]) >= 0)
+          exit = k;
+      if (exit < 0) return Walk::Blocked;
+      const HH opposite = mesh_.opposite_halfedge_handle(h[exit]);
+      if (mesh_.is_boundary(opposite)) return Walk::LeftSurface;
+      const FH g = mesh_.face_handle(opposite);
+      if (chart_.orientation[g.idx()] <= 0) return Walk::Blocked;
+      const Transition t = chart_.across(mesh_, h[exit]);
+      from = t(from);
+      target = t(target);
+      f = g;
+    }
+    return Walk::Blocked;
+  }
+
+  const TriMesh& mesh_;
+  const ExactChart& chart_;
+  const std::vector<int>& component_;
+  ExtractionReport& report_;
+  const RunContext& context_;
+  std::unordered_map<FacePoint, int, FacePointHash> points_;
+};
+
+/// Connected components of faces (through edges), numbered in order of their lowest face.
+std::vector<int> faceComponents(const TriMesh& mesh, int& count) {
+  std::vector<int> component(mesh.n_faces(), -1);
+  count = 0;
+  std::vector<FH> stack;
+  for (const auto seed : mesh.faces()) {
+    if (component[seed.idx()] >= 0) continue;
+    component[seed.idx()] = count;
+    stack.push_back(seed);
+    while (!stack.empty()) {
+      const FH f = stack.back();
+      stack.pop_back();
+      for (const auto g : mesh.ff_range(f))
+        if (component[g.idx()] < 0) component[g.idx()] = count, stack.push_back(g);
+    }
+    ++count;
+  }
+  return component;
+}
+
+/// Step 4a: drops triangles with a repeated corner and triangles that reuse a directed edge
+/// (a lattice triangle covered twice, or overlapping ones at a fold), keeping the first.
+void dropDegenerateAndOverlapping(std::vector<Triangle>& triangles, ExtractionReport& report) {
+  std::unordered_map<std::uint64_t, bool> used;
+  used.reserve(3 * triangles.size());
+  const auto key = [](int u, int v) {
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(u)) << 32) |
+           static_cast<std::uint32_t>(v);
+  };
+  std::vector<Triangle> kept;
+  kept.reserve(triangles.size());
+  for (const auto& t : triangles) {
+    if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) {
+      ++report.degenerateTriangles;
+      continue;
+    }
+    bool overlaps = false;
+    for (int k = 0; k < 3; ++k) overlaps = overlaps || used.count(key(t[k], t[(k + 1) % 3]));
+    if (overlaps) {
+      ++report.overlappingTriangles;
+      continue;
+    }
+    for (int k = 0; k < 3; ++k) used.emplace(key(t[k], t[(k + 1) % 3]), true);
+    kept.push_back(t);
+  }
+  triangles = std::move(kept);
+}
+
+/// Mean length of the triangle edges at each vertex (0 where none): the local edge length.
+std::vector<double> localEdgeLength(const Assembly& out) {
+  std::vector<double> sum(out.positions.size(), 0.0);
+  std::vector<int> count(out.positions.size(), 0);
+  for (const auto& t : out.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const double len = (out.positions[t[k]] - out.positions[t[(k + 1) % 3]]).norm();
+      for (const int v : {t[k], t[(k + 1) % 3]}) sum[v] += len, ++count[v];
+    }
+  for (std::size_t v = 0; v < sum.size(); ++v)
+    if (count[v] > 0) sum[v] /= count[v];
+  return sum;
+}
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  return values[values.size() / 2];
+}
+
+/// The input's boundary loops (vertex positions in face order, surface on the left) and the
+/// component of each.
+void inputBoundaryLoops(const TriMesh& mesh, const std::vector<int>& faceComponent,
+                        std::vector<std::vector<Eigen::Vector3d>>& loops,
+                        std::vector<int>& loopComponent) {
+  std::vector<bool> seen(mesh.n_halfedges(), false);
+  for (const auto start : mesh.halfedges()) {
+    if (!mesh.is_boundary(start) || seen[start.idx()]) continue;
+    // Boundary halfedges run against the faces; collect, then reverse to face order.
+    std::vector<Eigen::Vector3d> loop;
+    HH h = start;
+    do {
+      seen[h.idx()] = true;
+      loop.push_back(toEigen(mesh.point(mesh.from_vertex_handle(h))));
+      h = mesh.next_halfedge_handle(h);
+    } while (h != start);
+    std::reverse(loop.begin(), loop.end());
+    loops.push_back(std::move(loop));
+    loopComponent.push_back(
+        faceComponent[mesh.face_handle(mesh.opposite_halfedge_handle(start)).idx()]);
+  }
+}
+
+/// Removes the vertices listed in `drop` with their triangles.
+void removeVertices(Assembly& out, const std::vector<bool>& drop) {
+  std::erase_if(out.triangles, [&](const Triangle& t) { return drop[t[0]] || drop[t[1]] || drop[t[2]]; });
+}
+
+/// Steps 4b and 5: resolves every boundary loop of the lattice triangles: a front along an input
+/// boundary loop is stitched to that loop's samples (Follow) or left (Lattice); any other loop is
+/// a coverage gap and is filled.
+void closeBoundaries(const TriMesh& mesh, const std::vector<int>& faceComponent,
+                     const ExtractOptions& options, Assembly& out, ExtractionReport& report) {
+  std::vector<std::vector<Eigen::Vector3d>> inputLoops;
+  std::vector<int> inputLoopComponent;
+  inputBoundaryLoops(mesh, faceComponent, inputLoops, inputLoopComponent);
+  std::vector<double> h = localEdgeLength(out);
+  const double typical = median(std::vector<double>(h.begin(), h.end()));
+  if (typical <= 0.0) return;  // no lattice triangles at all
+  const BoundaryIndex index(inputLoops, 2.0 * typical);
+
+  if (options.boundary == BoundaryMode::Follow && !inputLoops.empty()) {
+    std::vector<bool> drop(out.positions.size(), false);
+    for (std::size_t v = 0; v < out.positions.size(); ++v) {
+      if (h[v] <= 0.0) continue;
+      const auto hit = index.nearest(out.positions[v], options.boundarySnapDistance * h[v]);
+      if (hit.loop >= 0) drop[v] = true, ++report.boundarySnapped;
+    }
+    removeVertices(out, drop);
+    h = localEdgeLength(out);
+  }
+
+  // Classify the loops of the lattice triangles: a front of input loop i when most of its
+  // vertices are within reach of loop i, else a gap.
+  const auto loops = traceBoundaryLoops(out.triangles);
+  std::vector<std::vector<int>> fronts(inputLoops.size());
+  std::vector<int> gaps;
+  for (int l = 0; l < static_cast<int>(loops.size()); ++l) {
+    std::map<int, int> votes;
+    for (const int v : loops[l]) {
+      const double reach = (options.boundarySnapDistance + 2.0) * std::max(h[v], typical);
+      const auto hit = index.nearest(out.positions[v], reach);
+      if (hit.loop >= 0) ++votes[hit.loop];
+    }
+    const auto best = std::max_element(votes.begin(), votes.end(),
+                                       [](auto& x, auto& y) { return x.second < y.second; });
+    if (best != votes.end() && 2 * best->second >= static_cast<int>(loops[l].size()))
+      fronts[best->first].push_back(l);
+    else
+      gaps.push_back(l);
+  }
+
+  std::vector<bool> componentHasLattice(*std::max_element(faceComponent.begin(), faceComponent.end()) + 1,
+                                        false);
+  for (const auto& t : out.triangles) componentHasLattice[out.component[t[0]]] = true;
+
+  std::vector<Triangle> added;
+  for (int i = 0; i < static_cast<int>(inputLoops.size()); ++i) {
+    if (!componentHasLattice[inputLoopComponent[i]]) continue;  // the component is copied
+    if (fronts[i].size() != 1) ++report.unmatchedBoundaryLoops;
+    if (fronts[i].empty()) continue;
+    // The longest front is stitched; any other front of the same loop is closed as a gap.
+    std::stable_sort(fronts[i].begin(), fronts[i].end(),
+                     [&](int x, int y) { return loops[x].size() > loops[y].size(); });
+    gaps.insert(gaps.end(), fronts[i].begin() + 1, fronts[i].end());
+    if (options.boundary != BoundaryMode::Follow) continue;
+    const auto& front = loops[fronts[i][0]];
+    std::vector<double> frontH;
+    for (const int v : front) frontH.push_back(h[v]);
+    const double spacing = median(frontH);
+    const auto sampleArc = sampleBoundaryLoop(index, i, spacing, options.sharpBoundaryAngle);
+    std::vector<int> samples;
+    for (const double s : sampleArc) {
+      samples.push_back(static_cast<int>(out.positions.size()));
+      out.positions.push_back(index.pointAt(i, s));
+      out.component.push_back(inputLoopComponent[i]);
+    }
+    report.boundarySamples += static_cast<long long>(samples.size());
+    std::vector<double> frontArc;
+    for (const int v : front) {
+      const auto hit = index.nearest(out.positions[v], 1e300, i);
+      frontArc.push_back(hit.loop >= 0 ? hit.arc : (frontArc.empty() ? 0.0 : frontArc.back()));
+    }
+    const std::size_t before = added.size();
+    stitchStrip(samples, sampleArc, front, frontArc, index.loopLength(i), added);
+    report.stripTriangles += static_cast<long long>(added.size() - before);
+  }
+  std::sort(gaps.begin(), gaps.end());
+  for (const int l : gaps) {
+    const int component = out.component[loops[l][0]];
+    const std::size_t before = out.positions.size();
+    report.holeTriangles += fillHole(loops[l], out.positions, added);
+    if (out.positions.size() > before) out.component.push_back(component);
+    ++report.holesFilled;
+  }
+  out.triangles.insert(out.triangles.end(), added.begin(), added.end());
+}
+
+/// Step 6: copies the faces of the components that received no triangle.
+void keepUncoveredComponents(const TriMesh& mesh, const std::vector<int>& faceComponent,
+                             int componentCount, Assembly& out, ExtractionReport& report) {
+  std::vector<bool> covered(componentCount, false);
+  for (const auto& t : out.triangles) covered[out.component[t[0]]] = true;
+  std::vector<int> copy(mesh.n_vertices(), -1);
+  for (const auto f : mesh.faces()) {
+    const int c = faceComponent[f.idx()];
+    if (covered[c]) continue;
+    Triangle t;
+    int k = 0;
+    for (const auto v : mesh.fv_range(f)) {
+      if (copy[v.idx()] < 0) {
+        copy[v.idx()] = static_cast<int>(out.positions.size());
+        out.positions.push_back(toEigen(mesh.point(v)));
+        out.component.push_back(c);
+      }
+      t[k++] = copy[v.idx()];
+    }
+    out.triangles.push_back(t);
+  }
+  for (int c = 0; c < componentCount; ++c) report.componentsKept += covered[c] ? 0 : 1;
+}
+
+/// The referenced vertices and the triangles as an OpenMesh mesh; faces OpenMesh refuses (they
+/// would make a vertex or edge non-manifold) are counted.
+TriMesh buildMesh(const Assembly& out, ExtractionReport& report) {
+  TriMesh result;
+  std::vector<VH> handle(out.positions.size());
+  for (const auto& t : out.triangles)
+    for (const int v : t)
+      if (!handle[v].is_valid()) handle[v] = result.add_vertex(toOpenMesh(out.positions[v]));
+  for (const auto& t : out.triangles)
+    if (!result.add_face(handle[t[0]], handle[t[1]], handle[t[2]]).is_valid())
+      ++report.nonManifoldFacesDropped;
+  // Vertices left without a face by refused faces are removed.
+  if (report.nonManifoldFacesDropped > 0) {
+    result.request_vertex_status();
+    result.request_edge_status();
+    result.request_face_status();
+    for (const auto v : result.vertices())
+      if (result.is_isolated(v)) result.delete_vertex(v, false);
+    result.garbage_collection();
+    result.release_vertex_status();
+    result.release_edge_status();
+    result.release_face_status();
+  }
+  return result;
+}
+
+}  // namespace
+
+Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
+                     const ExtractOptions& options, const RunContext& context) {
+  options.validate();
+  if (param.n != 6)
+    throw Error(ErrorCode::InvalidOption,
+                "extraction supports the 6-RoSy (Eisenstein) lattice only; got N = " +
+                    std::to_string(param.n));
+  if (param.cornerCoords.size() != mesh.n_halfedges() || param.edgeTransition.size() != mesh.n_edges())
+    throw Error(ErrorCode::InvalidOption,
+                "the parameterization does not belong to this mesh (" +
+                    std::to_string(param.cornerCoords.size()) + " corner coordinates for " +
+                    std::to_string(mesh.n_halfedges()) + " halfedges)");
+  Remesh result;
+  ExtractionReport& report = result.report;
+  int componentCount = 0;
+  const std::vector<int> faceComponent = faceComponents(mesh, componentCount);
+  Assembly out;
+  {
+    ScopedTimer timer(report.timings, "sanitize");
+    context.report("extract", 0.0);
+    const ExactChart chart = sanitize(mesh, param, report, context);
+    LatticeExtractor extractor(mesh, chart, faceComponent, report, context);
+    {
+      ScopedTimer pointsTimer(report.timings, "lattice points");
+      context.report("extract", 0.1);
+      extractor.emitPoints(out);
+    }
+    ScopedTimer trianglesTimer(report.timings, "lattice triangles");
+    context.report("extract", 0.3);
+    extractor.emitTriangles(out);
+  }
+  {
+    ScopedTimer timer(report.timings, "repair and boundary");
+    context.report("extract", 0.7);
+    context.throwIfCanceled();
+    dropDegenerateAndOverlapping(out.triangles, report);
+    if (componentCount > 0) closeBoundaries(mesh, faceComponent, options, out, report);
+    keepUncoveredComponents(mesh, faceComponent, componentCount, out, report);
+    result.triangles = buildMesh(out, report);
+  }
+  {
+    ScopedTimer timer(report.timings, "hexagonal dual");
+    context.report("extract", 0.9);
+    result.hexDual = hexagonalDual(result.triangles);
+  }
+  context.report("extract", 1.0);
+  return result;
+}
+
+}  // namespace hexcover
