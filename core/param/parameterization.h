@@ -45,11 +45,20 @@ struct Parameterization {
   std::vector<EdgeTransition> edgeTransition;
   /// #E: true for the edges of the cut graph.
   std::vector<bool> cutEdge;
+  /// #F: the coordinates of face f follow the field's representative faceDirection[f] rotated by
+  /// 2π·faceRotation[f]/N (the combing of the field along a dual spanning tree): ∇u ≈ that
+  /// direction / (edgeLength / sizing), ∇v its 90° rotation, in Cartesian units (u, v) = M·z.
+  std::vector<int> faceRotation;
+  double cutLength = 0.0;        ///< total surface length of the cut graph
+  int integerVariables = 0;      ///< independent integer unknowns after elimination (sec. 4.4)
   std::vector<ParamSingularity> singularities;
   int flippedTriangles = 0;      ///< parameter triangles with negative orientation
   int degenerateTriangles = 0;   ///< parameter triangles with (near) zero area
   DistortionStats distortion;
-  double energy = 0.0;           ///< energy (4) of the final solution
+  double energy = 0.0;           ///< energy (4) of the final solution, in units of area/h²
+  double localEnergy = 0.0;      ///< energy (4) of the local step (no integer constraints)
+  int flippedBeforeStiffening = 0;  ///< flipped triangles right after the final solve
+  int stiffeningIterations = 0;  ///< re-solves spent on removing fold-overs
   Timings timings;
 };
 

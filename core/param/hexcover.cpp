@@ -1,0 +1,771 @@
+#include "core/param/hexcover.h"
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/Geometry>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <array>
+#include <functional>
+#include <map>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+#include "core/common/error.h"
+#include "core/param/cut_graph.h"
+#include "core/param/integer_elimination.h"
+#include "core/param/lattice.h"
+
+namespace hexcover {
+namespace {
+
+using SparseMatrix = Eigen::SparseMatrix<double>;
+using Triplet = Eigen::Triplet<double>;
+
+int mod(int a, int n) { return ((a % n) + n) % n; }
+
+// sign · R^rotation · y_pair, a term of a corner's coordinates.
+struct TranslationTerm {
+  int pair = -1;
+  int rotation = 0;
+  int sign = 1;
+};
+
+// z_wedge = R^rotation · z_master + Σ terms.
+struct WedgeTransform {
+  int rotation = 0;
+  std::vector<TranslationTerm> terms;
+};
+
+// The cut mesh: corners grouped into wedges, each wedge's coordinates as a transform of its
+// vertex's master coordinates and integer 2-vectors ("pairs": cut-edge translations, then the
+// lattice positions of singular vertices), and the closure constraints among the pairs.
+struct CutMesh {
+  std::vector<int> halfedgeWedge;  // #H, -1 on boundary halfedges
+  std::vector<int> wedgeVertex;
+  std::vector<WedgeTransform> wedgeTransform;
+  std::vector<int> edgePair;       // #E, pair of the cut edge's translation or -1
+  std::vector<int> vertexPair;     // #V, pair of the singular vertex's position or -1
+  std::vector<bool> realGauge;     // #V, master coordinates fixed at 0 (one per component)
+  int pairCount = 0;
+  std::vector<IntegerCombination> rows;  // over scalars 2·pair + {0, 1}
+};
+
+// Adds sign·R^rotation·y_pair to the two rows.
+void addTerm(int n, const TranslationTerm& term, std::int64_t scale,
+             std::array<std::map<int, std::int64_t>, 2>& rows) {
+  const Eigen::Matrix2i r = term.sign * latticeRotation(n, term.rotation);
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j)
+      if (r(i, j) != 0) rows[i][2 * term.pair + j] += scale * r(i, j);
+}
+
+void appendRows(std::array<std::map<int, std::int64_t>, 2>& rows,
+                std::vector<IntegerCombination>& out) {
+  for (auto& row : rows) {
+    IntegerCombination combination;
+    for (const auto& [variable, coefficient] : row)
+      if (coefficient != 0) combination.emplace_back(variable, coefficient);
+    if (!combination.empty()) out.push_back(std::move(combination));
+  }
+}
+
+CutMesh buildCutMesh(const TriMesh& mesh, const CutGraph& cut) {
+  const int n = cut.n;
+  CutMesh cm;
+  cm.halfedgeWedge.assign(mesh.n_halfedges(), -1);
+  cm.edgePair.assign(mesh.n_edges(), -1);
+  cm.vertexPair.assign(mesh.n_vertices(), -1);
+  cm.realGauge.assign(mesh.n_vertices(), false);
+  for (const auto eh : mesh.edges())
+    if (cut.cutEdge[eh.idx()]) cm.edgePair[eh.idx()] = cm.pairCount++;
+
+  // Walk the corners of each vertex in the order h -> opposite(next(h)) (clockwise), starting
+  // right after a cut or boundary edge, and compose the transitions of eq. (2) across cut edges.
+  for (const auto vh : mesh.vertices()) {
+    if (mesh.is_isolated(vh)) continue;
+    const bool boundary = mesh.is_boundary(vh);
+    OpenMesh::HalfedgeHandle start;
+    for (const auto h : mesh.vih_range(vh)) {
+      if (mesh.is_boundary(h)) continue;
+      const bool afterBoundary = mesh.is_boundary(mesh.opposite_halfedge_handle(h));
+      const bool afterCut = cut.cutEdge[mesh.edge_handle(h).idx()];
+      if (boundary ? afterBoundary : afterCut) {
+        start = h;
+        break;
+      }
+      if (!boundary && !start.is_valid()) start = h;
+    }
+    WedgeTransform current;
+    const auto newWedge = [&] {
+      cm.wedgeVertex.push_back(vh.idx());
+      cm.wedgeTransform.push_back(current);
+      return static_cast<int>(cm.wedgeVertex.size()) - 1;
+    };
+    int wedge = newWedge();
+    OpenMesh::HalfedgeHandle h = start;
+    while (true) {
+      cm.halfedgeWedge[h.idx()] = wedge;
+      const OpenMesh::HalfedgeHandle next = mesh.next_halfedge_handle(h);
+      const OpenMesh::EdgeHandle eh = mesh.edge_handle(next);
+      if (mesh.is_boundary(eh)) break;
+      const OpenMesh::HalfedgeHandle across = mesh.opposite_halfedge_handle(next);
+      if (cut.cutEdge[eh.idx()]) {
+        const int r = cut.combedMatching[eh.idx()];
+        const int pair = cm.edgePair[eh.idx()];
+        if (mesh.halfedge_handle(eh, 0) == next) {  // z' = R^r z + t
+          current.rotation = mod(current.rotation + r, n);
+          for (auto& term : current.terms) term.rotation = mod(term.rotation + r, n);
+          current.terms.push_back({pair, 0, 1});
+        } else {  // z' = R^{-r} (z - t)
+          current.rotation = mod(current.rotation - r, n);
+          for (auto& term : current.terms) term.rotation = mod(term.rotation - r, n);
+          current.terms.push_back({pair, mod(-r, n), -1});
+        }
+      }
+      if (across == start) {
+        // Closure: z = R^ρ z + Σ terms. ρ = 0: the terms must cancel; ρ ≠ 0: z is the fixed point.
+        std::array<std::map<int, std::int64_t>, 2> rows;
+        for (const auto& term : current.terms) addTerm(n, term, 1, rows);
+        if (current.rotation != 0) {
+          const int pair = cm.pairCount++;
+          cm.vertexPair[vh.idx()] = pair;
+          const Eigen::Matrix2i a =
+              Eigen::Matrix2i::Identity() - latticeRotation(n, current.rotation);
+          for (int i = 0; i < 2; ++i) {
+            for (auto& entry : rows[i]) entry.second = -entry.second;
+            for (int j = 0; j < 2; ++j) rows[i][2 * pair + j] += a(i, j);
+          }
+        }
+        appendRows(rows, cm.rows);
+        break;
+      }
+      if (cut.cutEdge[eh.idx()]) wedge = newWedge();
+      h = across;
+    }
+  }
+
+  // Gauge, one per component: a singular vertex at the origin (preferring holonomy ±1, whose
+  // fixed point is a lattice point for any integer translations), else one vertex's master.
+  std::vector<int> vertexComponent(mesh.n_vertices(), -1);
+  for (const auto fh : mesh.faces())
+    for (const auto vh : fh.vertices()) vertexComponent[vh.idx()] = cut.faceComponent[fh.idx()];
+  const auto unitHolonomy = [&](int v) {
+    return cut.vertexHolonomy[v] == 1 || cut.vertexHolonomy[v] == n - 1;
+  };
+  std::vector<int> gauge(cut.componentCount, -1);
+  for (const auto& accept : {std::function<bool(int)>([&](int v) {
+                               return cm.vertexPair[v] >= 0 && unitHolonomy(v);
+                             }),
+                             std::function<bool(int)>([&](int v) { return cm.vertexPair[v] >= 0; }),
+                             std::function<bool(int)>([](int) { return true; })})
+    for (int v = 0; v < static_cast<int>(mesh.n_vertices()); ++v) {
+      const int c = vertexComponent[v];
+      if (c >= 0 && gauge[c] < 0 && accept(v)) gauge[c] = v;
+    }
+  for (const int v : gauge) {
+    if (cm.vertexPair[v] >= 0) {
+      cm.rows.push_back({{2 * cm.vertexPair[v], 1}});
+      cm.rows.push_back({{2 * cm.vertexPair[v] + 1, 1}});
+    } else {
+      cm.realGauge[v] = true;
+    }
+  }
+  return cm;
+}
+
+// Per-face geometry in the combed frame: gradients of the three corner hat functions.
+struct FaceGeometry {
+  std::vector<double> area;                          // #F
+  std::vector<std::array<Eigen::Vector2d, 3>> grad;  // #F × corner (halfedge order from halfedge(f))
+  std::vector<std::array<Eigen::Vector2d, 3>> local; // #F × corner positions in the combed frame
+};
+
+FaceGeometry computeFaceGeometry(const TriMesh& mesh, const RosyField& field, const CutGraph& cut) {
+  const int nF = static_cast<int>(mesh.n_faces());
+  FaceGeometry g;
+  g.area.resize(nF);
+  g.grad.resize(nF);
+  g.local.resize(nF);
+  for (const auto fh : mesh.faces()) {
+    const int f = fh.idx();
+    std::array<Eigen::Vector3d, 3> p;
+    int i = 0;
+    for (const auto h : mesh.fh_range(fh)) p[i++] = toEigen(mesh.point(mesh.to_vertex_handle(h)));
+    const Eigen::Vector3d cross = (p[1] - p[0]).cross(p[2] - p[0]);
+    const double doubleArea = cross.norm();
+    g.area[f] = 0.5 * doubleArea;
+    if (!(doubleArea > 0.0)) {
+      for (auto& v : g.grad[f]) v.setZero();
+      for (auto& v : g.local[f]) v.setZero();
+      continue;
+    }
+    const Eigen::Vector3d normal = cross / doubleArea;
+    Eigen::Vector3d d = field.faceDirection[f] - field.faceDirection[f].dot(normal) * normal;
+    if (!(d.norm() > 1e-12)) d = p[1] - p[0];
+    d.normalize();
+    const double angle = 2.0 * M_PI * cut.faceRotation[f] / cut.n;
+    const Eigen::Vector3d x = std::cos(angle) * d + std::sin(angle) * normal.cross(d);
+    const Eigen::Vector3d y = normal.cross(x);
+    for (int c = 0; c < 3; ++c) {
+      // ∇φ_c = n × e_c / (2A), e_c the edge opposite corner c, counter-clockwise.
+      const Eigen::Vector3d e = p[(c + 2) % 3] - p[(c + 1) % 3];
+      const Eigen::Vector3d gradient = normal.cross(e) / doubleArea;
+      g.grad[f][c] = {gradient.dot(x), gradient.dot(y)};
+      g.local[f][c] = {(p[c] - p[0]).dot(x), (p[c] - p[0]).dot(y)};
+    }
+  }
+  return g;
+}
+
+// Column layout of the solve: 2 real master coordinates per free vertex, then the free integer
+// scalars. Each wedge's two lattice coordinates are sparse rows over these columns.
+struct Unknowns {
+  int realCount = 0;
+  int integerCount = 0;
+  std::vector<int> vertexColumn;  // #V, first of two real columns or -1
+  IntegerElimination elimination;
+  std::vector<int> freeColumn;    // #scalars, column of a free integer scalar or -1
+  using Row = std::vector<std::pair<int, double>>;
+  std::vector<std::array<Row, 2>> wedgeRows;
+
+  int columns() const { return realCount + integerCount; }
+};
+
+Unknowns buildUnknowns(const TriMesh& mesh, const CutMesh& cm, int n) {
+  Unknowns u;
+  u.vertexColumn.assign(mesh.n_vertices(), -1);
+  for (const auto vh : mesh.vertices()) {
+    const int v = vh.idx();
+    if (mesh.is_isolated(vh) || cm.vertexPair[v] >= 0 || cm.realGauge[v]) continue;
+    u.vertexColumn[v] = u.realCount;
+    u.realCount += 2;
+  }
+  const int scalars = 2 * cm.pairCount;
+  std::vector<bool> preferred(scalars, false);
+  for (const int pair : cm.vertexPair)
+    if (pair >= 0) preferred[2 * pair] = preferred[2 * pair + 1] = true;
+  u.elimination = eliminateIntegerConstraints(scalars, cm.rows, preferred);
+  u.freeColumn.assign(scalars, -1);
+  for (const int x : u.elimination.freeVariables) u.freeColumn[x] = u.realCount + u.integerCount++;
+
+  u.wedgeRows.resize(cm.wedgeVertex.size());
+  std::array<std::map<int, double>, 2> acc;
+  const auto addScalar = [&](int row, int scalar, double coefficient) {
+    for (const auto& [variable, c] : u.elimination.expression[scalar])
+      acc[row][u.freeColumn[variable]] += coefficient * static_cast<double>(c);
+  };
+  for (std::size_t w = 0; w < cm.wedgeVertex.size(); ++w) {
+    const int v = cm.wedgeVertex[w];
+    const auto& transform = cm.wedgeTransform[w];
+    acc[0].clear();
+    acc[1].clear();
+    const Eigen::Matrix2i r = latticeRotation(n, transform.rotation);
+    for (int i = 0; i < 2; ++i) {
+      for (int j = 0; j < 2; ++j) {
+        if (r(i, j) == 0) continue;
+        if (cm.vertexPair[v] >= 0)
+          addScalar(i, 2 * cm.vertexPair[v] + j, r(i, j));
+        else if (u.vertexColumn[v] >= 0)
+          acc[i][u.vertexColumn[v] + j] += r(i, j);
+      }
+    }
+    for (const auto& term : transform.terms) {
+      const Eigen::Matrix2i s = term.sign * latticeRotation(n, term.rotation);
+      for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j)
+          if (s(i, j) != 0) addScalar(i, 2 * term.pair + j, s(i, j));
+    }
+    for (int i = 0; i < 2; ++i)
+      for (const auto& [column, c] : acc[i])
+        if (c != 0.0) u.wedgeRows[w][i].emplace_back(column, c);
+  }
+  return u;
+}
+
+// Energy (4) as least squares: 4 rows per face (∂u/∂x, ∂u/∂y, ∂v/∂x, ∂v/∂y in the combed frame)
+// over the columns of Unknowns, with targets (σ_f, 0, 0, σ_f), σ_f = s_f / h.
+struct LeastSquares {
+  SparseMatrix gradient;     // 4F × columns
+  Eigen::VectorXd target;    // 4F
+  Eigen::VectorXd faceArea;  // F (0 for degenerate faces, which are left out)
+};
+
+LeastSquares buildLeastSquares(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
+                               const FaceGeometry& geometry, const std::vector<double>& faceScale,
+                               int n) {
+  const int nF = static_cast<int>(mesh.n_faces());
+  const Eigen::Matrix2d basis = latticeBasis(n);
+  LeastSquares ls;
+  ls.target = Eigen::VectorXd::Zero(4 * nF);
+  ls.faceArea = Eigen::VectorXd::Zero(nF);
+  std::vector<Triplet> triplets;
+  triplets.reserve(static_cast<std::size_t>(nF) * 48);
+  for (const auto fh : mesh.faces()) {
+    const int f = fh.idx();
+    if (!(geometry.area[f] > 0.0)) continue;
+    ls.faceArea[f] = geometry.area[f];
+    ls.target[4 * f] = ls.target[4 * f + 3] = faceScale[f];
+    int c = 0;
+    for (const auto h : mesh.fh_range(fh)) {
+      const auto& rows = u.wedgeRows[cm.halfedgeWedge[h.idx()]];
+      const Eigen::Vector2d& g = geometry.grad[f][c++];
+      // Cartesian (u, v) = basis · (a, b).
+      for (int coordinate = 0; coordinate < 2; ++coordinate)
+        for (int latticeAxis = 0; latticeAxis < 2; ++latticeAxis) {
+          const double m = basis(coordinate, latticeAxis);
+          if (m == 0.0) continue;
+          for (const auto& [column, value] : rows[latticeAxis])
+            for (int axis = 0; axis < 2; ++axis)
+              triplets.emplace_back(4 * f + 2 * coordinate + axis, column, m * value * g[axis]);
+        }
+    }
+  }
+  ls.gradient.resize(4 * nF, u.columns());
+  ls.gradient.setFromTriplets(triplets.begin(), triplets.end());
+  return ls;
+}
+
+// Sparse symmetric positive definite solves that keep the symbolic analysis across re-solves
+// with the same pattern (fixed unknowns only change values, see withFixed).
+class SpdSolver {
+ public:
+  explicit SpdSolver(LinearSolver kind) : kind_(kind) {}
+
+  Eigen::VectorXd solve(const SparseMatrix& a, const Eigen::VectorXd& b) {
+    if (kind_ == LinearSolver::Cholmod) return run(cholmod_, a, b);
+    return run(ldlt_, a, b);
+  }
+
+ private:
+  template <typename Factorization>
+  Eigen::VectorXd run(Factorization& factorization, const SparseMatrix& a, const Eigen::VectorXd& b) {
+    if (!analyzed_) {
+      factorization.analyzePattern(a);
+      analyzed_ = true;
+    }
+    factorization.factorize(a);
+    if (factorization.info() != Eigen::Success)
+      throw Error(ErrorCode::NumericalFailure,
+                  "the parameterization system could not be factorized (degenerate mesh or field)");
+    Eigen::VectorXd x = factorization.solve(b);
+    if (!x.allFinite())
+      throw Error(ErrorCode::NumericalFailure, "the parameterization solve produced non-finite values");
+    return x;
+  }
+
+  LinearSolver kind_;
+  bool analyzed_ = false;
+  Eigen::SimplicialLDLT<SparseMatrix> ldlt_;
+  Eigen::CholmodSupernodalLLT<SparseMatrix> cholmod_;
+};
+
+// Normal equations AᵀWA x = AᵀW f with per-face weights, and re-solves with some unknowns fixed.
+class EnergySystem {
+ public:
+  EnergySystem(const LeastSquares& ls, LinearSolver kind) : ls_(ls), solver_(kind) {}
+
+  /// Minimizes Σ_f weight_f·A_f·|rows_f x − target_f|² with x[j] = values[j] where fixed[j].
+  Eigen::VectorXd solve(const Eigen::VectorXd& faceWeight, const std::vector<bool>& fixed,
+                        const Eigen::VectorXd& values) {
+    const Eigen::VectorXd rowWeight = rowWeights(faceWeight);
+    SparseMatrix weighted = rowWeight.cwiseSqrt().asDiagonal() * ls_.gradient;
+    SparseMatrix a = SparseMatrix(weighted.transpose()) * weighted;
+    Eigen::VectorXd b = ls_.gradient.transpose() * rowWeight.cwiseProduct(ls_.target);
+    const double regularization = 1e-14 * a.diagonal().cwiseAbs().maxCoeff();
+    Eigen::VectorXd fixedValues = Eigen::VectorXd::Zero(a.cols());
+    for (int j = 0; j < a.cols(); ++j)
+      if (fixed[j]) fixedValues[j] = values[j];
+    b -= a * fixedValues;
+    // Pattern-preserving elimination: zero the fixed rows and columns, unit diagonal.
+    for (int col = 0; col < a.outerSize(); ++col)
+      for (SparseMatrix::InnerIterator it(a, col); it; ++it) {
+        if (fixed[it.row()] || fixed[it.col()])
+          it.valueRef() = it.row() == it.col() ? 1.0 : 0.0;
+        else if (it.row() == it.col())
+          it.valueRef() += regularization;
+      }
+    for (int j = 0; j < a.cols(); ++j)
+      if (fixed[j]) b[j] = fixedValues[j];
+    return solver_.solve(a, b);
+  }
+
+  /// Σ_f A_f |rows_f x − target_f|² (energy (4), unit weights).
+  double energy(const Eigen::VectorXd& x) const {
+    const Eigen::VectorXd residual = ls_.gradient * x - ls_.target;
+    return rowWeights(Eigen::VectorXd::Ones(ls_.faceArea.size())).dot(residual.cwiseAbs2());
+  }
+
+ private:
+  Eigen::VectorXd rowWeights(const Eigen::VectorXd& faceWeight) const {
+    Eigen::VectorXd w(ls_.target.size());
+    for (Eigen::Index f = 0; f < ls_.faceArea.size(); ++f)
+      w.segment<4>(4 * f).setConstant(ls_.faceArea[f] * faceWeight[f]);
+    return w;
+  }
+
+  const LeastSquares& ls_;
+  SpdSolver solver_;
+};
+
+// Nearest lattice point of a 2D unknown in the Euclidean metric of the plane: the best corner
+// of the lattice cell around it.
+Eigen::Vector2d nearestLatticePoint(const Eigen::Vector2d& z, const Eigen::Matrix2d& basis) {
+  Eigen::Vector2d best(std::round(z[0]), std::round(z[1]));
+  double bestDistance = (basis * (best - z)).norm();
+  for (int da = 0; da < 2; ++da)
+    for (int db = 0; db < 2; ++db) {
+      const Eigen::Vector2d candidate(std::floor(z[0]) + da, std::floor(z[1]) + db);
+      const double distance = (basis * (candidate - z)).norm();
+      if (distance < bestDistance) {
+        best = candidate;
+        bestDistance = distance;
+      }
+    }
+  return best;
+}
+
+// Rounding units: both scalars of a pair when both are free (rounded to the nearest lattice
+// point), else single scalars (rounded to the nearest integer).
+std::vector<std::vector<int>> roundingUnits(const Unknowns& u) {
+  std::vector<std::vector<int>> units;
+  const auto& free = u.elimination.freeVariables;
+  for (std::size_t i = 0; i < free.size(); ++i) {
+    const int x = free[i];
+    if (x % 2 == 0 && i + 1 < free.size() && free[i + 1] == x + 1) {
+      units.push_back({u.freeColumn[x], u.freeColumn[x + 1]});
+      ++i;
+    } else {
+      units.push_back({u.freeColumn[x]});
+    }
+  }
+  return units;
+}
+
+// Rounds one unit in place and returns the Euclidean distance moved (in units of h).
+double roundUnit(const std::vector<int>& unit, Eigen::VectorXd& x, const Eigen::Matrix2d& basis,
+                 bool apply) {
+  if (unit.size() == 2) {
+    const Eigen::Vector2d z(x[unit[0]], x[unit[1]]);
+    const Eigen::Vector2d rounded = nearestLatticePoint(z, basis);
+    if (apply) x[unit[0]] = rounded[0], x[unit[1]] = rounded[1];
+    return (basis * (rounded - z)).norm();
+  }
+  const double rounded = std::round(x[unit[0]]);
+  const double distance = std::abs(rounded - x[unit[0]]);
+  if (apply) x[unit[0]] = rounded;
+  return distance;
+}
+
+// Exact corner coordinates: real unknowns snapped to multiples of 2^-k, integers exact, every
+// corner computed with integer matrices, so that transitions hold bit-exactly.
+struct SnappedCoordinates {
+  int exponent = 0;                                 // quantum 2^-exponent
+  std::vector<std::array<std::int64_t, 2>> wedge;   // #wedges, in units of the quantum
+};
+
+SnappedCoordinates snapCoordinates(const Unknowns& u, const Eigen::VectorXd& x) {
+  double largest = 1.0;
+  for (int j = 0; j < u.realCount; ++j) largest = std::max(largest, std::abs(x[j]));
+  SnappedCoordinates s;
+  s.exponent = std::min(30, 48 - static_cast<int>(std::ceil(std::log2(largest))));
+  const double scale = std::ldexp(1.0, s.exponent);
+  std::vector<std::int64_t> quantized(x.size());
+  for (Eigen::Index j = 0; j < x.size(); ++j)
+    quantized[j] = j < u.realCount ? std::llround(x[j] * scale)
+                                   : std::llround(x[j]) * (std::int64_t{1} << s.exponent);
+  s.wedge.resize(u.wedgeRows.size());
+  for (std::size_t w = 0; w < u.wedgeRows.size(); ++w)
+    for (int i = 0; i < 2; ++i) {
+      std::int64_t value = 0;
+      for (const auto& [column, c] : u.wedgeRows[w][i]) value += std::llround(c) * quantized[column];
+      s.wedge[w][i] = value;
+    }
+  return s;
+}
+
+struct Orientation {
+  int flipped = 0;
+  int degenerate = 0;
+};
+
+Orientation countOrientation(const TriMesh& mesh, const CutMesh& cm, const SnappedCoordinates& s,
+                             std::vector<bool>* flippedFaces = nullptr) {
+  Orientation o;
+  if (flippedFaces) flippedFaces->assign(mesh.n_faces(), false);
+  for (const auto fh : mesh.faces()) {
+    std::array<const std::array<std::int64_t, 2>*, 3> z{};
+    int c = 0;
+    for (const auto h : mesh.fh_range(fh)) z[c++] = &s.wedge[cm.halfedgeWedge[h.idx()]];
+    const __int128 ax = (*z[1])[0] - (*z[0])[0], ay = (*z[1])[1] - (*z[0])[1];
+    const __int128 bx = (*z[2])[0] - (*z[0])[0], by = (*z[2])[1] - (*z[0])[1];
+    const __int128 det = ax * by - ay * bx;  // same sign in lattice and Cartesian coordinates
+    if (det == 0) ++o.degenerate;
+    if (det < 0) {
+      ++o.flipped;
+      if (flippedFaces) (*flippedFaces)[fh.idx()] = true;
+    }
+  }
+  return o;
+}
+
+double angleAt(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+  const Eigen::Vector2d u = b - a, v = c - a;
+  return std::atan2(std::abs(u.x() * v.y() - u.y() * v.x()), u.dot(v));
+}
+
+}  // namespace
+
+void ParamOptions::validate() const {
+  const auto fail = [](const std::string& message) {
+    throw Error(ErrorCode::InvalidOption, message);
+  };
+  if (!std::isfinite(edgeLength) || edgeLength < 0.0)
+    fail("edge length must be a positive finite number (or 0 for automatic)");
+  if (targetVertices < 0) fail("target vertex count must be positive (or 0 for automatic)");
+  for (const double s : vertexSizing)
+    if (!std::isfinite(s) || s <= 0.0) fail("vertex sizing values must be positive and finite");
+  if (!(greedyBatchFraction > 0.0 && greedyBatchFraction <= 1.0))
+    fail("greedy batch fraction must be in (0, 1]");
+  if (maxStiffeningIterations < 0) fail("stiffening iterations must be ≥ 0");
+}
+
+double edgeLengthForVertexCount(const TriMesh& mesh, int targetVertices, int n,
+                                const std::vector<double>& vertexSizing) {
+  if (targetVertices < 1)
+    throw Error(ErrorCode::InvalidOption, "target vertex count must be at least 1");
+  double sizedArea = 0.0;
+  for (const auto fh : mesh.faces()) {
+    double s = vertexSizing.empty() ? 1.0 : 0.0;
+    if (!vertexSizing.empty())
+      for (const auto vh : fh.vertices()) s += vertexSizing[vh.idx()] / 3.0;
+    sizedArea += mesh.calc_face_area(fh) * s * s;
+  }
+  // Per vertex: two lattice triangles (N = 6) or one lattice square (N = 4) of area c·h².
+  const double areaPerVertexOverH2 = 2.0 * latticeTriangleArea(n);
+  return std::sqrt(sizedArea / (areaPerVertexOverH2 * targetVertices));
+}
+
+std::vector<double> curvatureSizing(const std::vector<double>& absMaxCurvature, double minScale,
+                                    double maxScale) {
+  if (absMaxCurvature.empty()) throw Error(ErrorCode::InvalidOption, "no curvature values given");
+  if (!(minScale > 0.0 && minScale <= maxScale))
+    throw Error(ErrorCode::InvalidOption, "sizing range must satisfy 0 < min ≤ max");
+  std::vector<double> sorted;
+  for (const double k : absMaxCurvature)
+    if (std::isfinite(k)) sorted.push_back(std::abs(k));
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const double median = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
+  std::vector<double> sizing(absMaxCurvature.size(), 1.0);
+  if (!(median > 0.0)) return sizing;
+  for (std::size_t v = 0; v < sizing.size(); ++v) {
+    const double k = std::isfinite(absMaxCurvature[v]) ? std::abs(absMaxCurvature[v]) : median;
+    sizing[v] = std::clamp(k / median, minScale, maxScale);
+  }
+  return sizing;
+}
+
+Parameterization computeParameterization(const TriMesh& mesh, const RosyField& field,
+                                         const ParamOptions& options, const RunContext& context) {
+  options.validate();
+  if (mesh.n_faces() == 0) throw Error(ErrorCode::InvalidMesh, "the mesh has no faces to parameterize");
+  if (!options.vertexSizing.empty() && options.vertexSizing.size() != mesh.n_vertices())
+    throw Error(ErrorCode::InvalidOption,
+                "vertex sizing has " + std::to_string(options.vertexSizing.size()) +
+                    " values for " + std::to_string(mesh.n_vertices()) + " vertices");
+  const int n = field.n;
+  Parameterization result;
+  result.n = n;
+
+  int usedVertices = 0;
+  for (const auto vh : mesh.vertices()) usedVertices += mesh.is_isolated(vh) ? 0 : 1;
+  result.edgeLength = options.edgeLength > 0.0
+                          ? options.edgeLength
+                          : edgeLengthForVertexCount(mesh,
+                                                     options.targetVertices > 0 ? options.targetVertices
+                                                                                : usedVertices,
+                                                     isLatticeOrder(n) ? n : 6, options.vertexSizing);
+  std::vector<double> faceScale(mesh.n_faces(), 1.0 / result.edgeLength);
+  if (!options.vertexSizing.empty())
+    for (const auto fh : mesh.faces()) {
+      double s = 0.0;
+      for (const auto vh : fh.vertices()) s += options.vertexSizing[vh.idx()] / 3.0;
+      faceScale[fh.idx()] = s / result.edgeLength;
+    }
+
+  context.report("parameterization", 0.0);
+  CutGraph cut;
+  CutMesh cm;
+  {
+    ScopedTimer timer(result.timings, "cut graph");
+    cut = computeCutGraph(mesh, field);
+    cm = buildCutMesh(mesh, cut);
+  }
+  context.throwIfCanceled();
+  Unknowns unknowns;
+  {
+    ScopedTimer timer(result.timings, "integer constraints");
+    unknowns = buildUnknowns(mesh, cm, n);
+  }
+  result.integerVariables = unknowns.integerCount;
+  context.throwIfCanceled();
+  LeastSquares ls;
+  FaceGeometry geometry;
+  {
+    ScopedTimer timer(result.timings, "assembly");
+    geometry = computeFaceGeometry(mesh, field, cut);
+    ls = buildLeastSquares(mesh, cm, unknowns, geometry, faceScale, n);
+  }
+  context.report("parameterization", 0.2);
+
+  const int columns = unknowns.columns();
+  EnergySystem system(ls, options.solver);
+  Eigen::VectorXd faceWeight = Eigen::VectorXd::Ones(mesh.n_faces());
+  std::vector<bool> fixed(columns, false);
+  Eigen::VectorXd x;
+  {
+    ScopedTimer timer(result.timings, "local solve");
+    x = system.solve(faceWeight, fixed, Eigen::VectorXd::Zero(columns));
+  }
+  result.localEnergy = system.energy(x);
+  context.throwIfCanceled();
+  context.report("parameterization", 0.4);
+
+  const Eigen::Matrix2d basis = latticeBasis(n);
+  {
+    ScopedTimer timer(result.timings, "rounding");
+    auto units = roundingUnits(unknowns);
+    if (options.rounding == RoundingMethod::Direct) {
+      for (const auto& unit : units) roundUnit(unit, x, basis, true);
+    } else {
+      while (!units.empty()) {
+        std::vector<std::pair<double, std::size_t>> order;
+        for (std::size_t i = 0; i < units.size(); ++i)
+          order.emplace_back(roundUnit(units[i], x, basis, false), i);
+        std::sort(order.begin(), order.end());
+        const std::size_t count = std::max<std::size_t>(
+            1, static_cast<std::size_t>(std::ceil(options.greedyBatchFraction * units.size())));
+        std::vector<bool> taken(units.size(), false);
+        for (std::size_t k = 0; k < count; ++k) {
+          const auto& unit = units[order[k].second];
+          roundUnit(unit, x, basis, true);
+          for (const int column : unit) fixed[column] = true;
+          taken[order[k].second] = true;
+        }
+        std::vector<std::vector<int>> remaining;
+        for (std::size_t i = 0; i < units.size(); ++i)
+          if (!taken[i]) remaining.push_back(std::move(units[i]));
+        units = std::move(remaining);
+        if (!units.empty()) x = system.solve(faceWeight, fixed, x);
+        context.throwIfCanceled();
+      }
+    }
+    for (int j = unknowns.realCount; j < columns; ++j) fixed[j] = true;
+  }
+  {
+    ScopedTimer timer(result.timings, "final solve");
+    x = system.solve(faceWeight, fixed, x);
+  }
+  context.report("parameterization", 0.7);
+
+  // Fold-overs: stiffen distorted triangles (weight += min(5·relative misfit, 20)) and re-solve.
+  SnappedCoordinates snapped = snapCoordinates(unknowns, x);
+  std::vector<bool> flippedFaces;
+  Orientation orientation = countOrientation(mesh, cm, snapped, &flippedFaces);
+  result.flippedBeforeStiffening = orientation.flipped;
+  {
+    ScopedTimer timer(result.timings, "stiffening");
+    while ((orientation.flipped > 0 || orientation.degenerate > 0) &&
+           result.stiffeningIterations < options.maxStiffeningIterations) {
+      context.throwIfCanceled();
+      const Eigen::VectorXd residual = ls.gradient * x - ls.target;
+      for (int f = 0; f < static_cast<int>(mesh.n_faces()); ++f) {
+        const double misfit = residual.segment<4>(4 * f).squaredNorm() /
+                              (2.0 * faceScale[f] * faceScale[f]);
+        faceWeight[f] += std::min(5.0 * misfit + (flippedFaces[f] ? 5.0 : 0.0), 20.0);
+      }
+      x = system.solve(faceWeight, fixed, x);
+      ++result.stiffeningIterations;
+      snapped = snapCoordinates(unknowns, x);
+      orientation = countOrientation(mesh, cm, snapped, &flippedFaces);
+    }
+  }
+  result.flippedTriangles = orientation.flipped;
+  result.degenerateTriangles = orientation.degenerate;
+  result.energy = system.energy(x);
+
+  // Result arrays.
+  ScopedTimer timer(result.timings, "output");
+  const double quantum = std::ldexp(1.0, -snapped.exponent);
+  result.cornerCoords.assign(mesh.n_halfedges(), Eigen::Vector2d::Zero());
+  for (const auto h : mesh.halfedges()) {
+    const int w = cm.halfedgeWedge[h.idx()];
+    if (w < 0) continue;
+    result.cornerCoords[h.idx()] = {static_cast<double>(snapped.wedge[w][0]) * quantum,
+                                    static_cast<double>(snapped.wedge[w][1]) * quantum};
+  }
+  result.edgeTransition.assign(mesh.n_edges(), EdgeTransition{});
+  result.cutEdge = cut.cutEdge;
+  result.faceRotation = cut.faceRotation;
+  result.cutLength = cut.cutLength;
+  for (const auto eh : mesh.edges()) {
+    const int pair = cm.edgePair[eh.idx()];
+    if (pair < 0) continue;
+    auto& transition = result.edgeTransition[eh.idx()];
+    transition.rotation = cut.combedMatching[eh.idx()];
+    for (int j = 0; j < 2; ++j) {
+      double value = 0.0;
+      for (const auto& [variable, c] : unknowns.elimination.expression[2 * pair + j])
+        value += static_cast<double>(c) * x[unknowns.freeColumn[variable]];
+      transition.translation[j] = static_cast<int>(std::llround(value));
+    }
+  }
+  for (const auto& s : field.singularities) {
+    ParamSingularity ps;
+    ps.coords.setZero();
+    ps.vertex = s.vertex;
+    ps.index = s.index;
+    for (const auto h : mesh.vih_range(mesh.vertex_handle(s.vertex)))
+      if (!mesh.is_boundary(h)) {
+        ps.coords = result.cornerCoords[h.idx()];
+        break;
+      }
+    result.singularities.push_back(ps);
+  }
+
+  // Distortion: corner angles and log area ratio of parameter (scaled by h/s) vs surface triangles.
+  double angleSum = 0.0, areaSum = 0.0;
+  int angleCount = 0, areaCount = 0;
+  for (const auto fh : mesh.faces()) {
+    const int f = fh.idx();
+    if (!(geometry.area[f] > 0.0)) continue;
+    std::array<Eigen::Vector2d, 3> p;
+    int c = 0;
+    for (const auto h : mesh.fh_range(fh)) p[c++] = basis * result.cornerCoords[h.idx()];
+    const auto& q = geometry.local[f];
+    for (int k = 0; k < 3; ++k) {
+      const double difference =
+          std::abs(angleAt(p[k], p[(k + 1) % 3], p[(k + 2) % 3]) -
+                   angleAt(q[k], q[(k + 1) % 3], q[(k + 2) % 3])) * 180.0 / M_PI;
+      angleSum += difference;
+      result.distortion.angleMax = std::max(result.distortion.angleMax, difference);
+      ++angleCount;
+    }
+    const Eigen::Vector2d a = p[1] - p[0], b = p[2] - p[0];
+    const double parameterArea = 0.5 * std::abs(a.x() * b.y() - a.y() * b.x());
+    if (parameterArea > 0.0) {
+      const double ratio = parameterArea / (faceScale[f] * faceScale[f] * geometry.area[f]);
+      const double logRatio = std::abs(std::log(ratio));
+      areaSum += logRatio;
+      result.distortion.areaMax = std::max(result.distortion.areaMax, logRatio);
+      ++areaCount;
+    }
+  }
+  result.distortion.angleMean = angleCount > 0 ? angleSum / angleCount : 0.0;
+  result.distortion.areaMean = areaCount > 0 ? areaSum / areaCount : 0.0;
+  context.report("parameterization", 1.0);
+  return result;
+}
+
+}  // namespace hexcover

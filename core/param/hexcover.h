@@ -1,0 +1,77 @@
+#pragma once
+// HexCover: seamless hexagonal (N = 6) or quadrilateral (N = 4) global parameterization of a
+// triangle mesh guided by an N-RoSy field (paper section 4).
+//
+// Formulation (equivalent to the paper's cogradient local step, same minimizer of energy (4)):
+// the mesh is cut into a disk per component (cut_graph.h); the unknowns are the lattice
+// coordinates of each vertex in one master corner, the translation t_e ∈ R² of every cut edge and
+// the lattice position of every singular vertex. Every corner's coordinates are an integer-matrix
+// image of these (eq. (2): z_f1 = R^r z_f0 + t across the cut), the closure around each vertex gives
+// integer equations among translations (regular vertices) or fixes the vertex as the fixed point of
+// its holonomy (singular vertices), and these are eliminated exactly (integer_elimination.h).
+// Energy (4) in lattice coordinates is a sparse least-squares problem; the local step minimizes it
+// over all unknowns, the global step rounds the independent integer unknowns (direct rounding, sec.
+// 4.4, or greedy mixed-integer rounding, sec. 4.5) and solves again with them fixed. Fold-overs are
+// removed by stiffening (raising the weight of distorted triangles and re-solving).
+
+#include <vector>
+
+#include "core/common/run_context.h"
+#include "core/field/rosy_field.h"
+#include "core/mesh/mesh.h"
+#include "core/param/parameterization.h"
+
+namespace hexcover {
+
+enum class RoundingMethod {
+  Direct,  ///< round every independent integer unknown at once (paper sec. 4.4)
+  Greedy,  ///< round the unknowns closest to the lattice first, re-solve, repeat (sec. 4.5, MIQ)
+};
+
+enum class LinearSolver {
+  SimplicialLDLT,  ///< Eigen's simplicial LDLᵀ
+  Cholmod,         ///< SuiteSparse CHOLMOD (supernodal) through Eigen's CholmodSupport
+};
+
+struct ParamOptions {
+  /// h: surface length of one lattice unit (where the sizing is 1). When ≤ 0, h is derived from
+  /// targetVertices; when both are unset, from a target of as many vertices as the input has.
+  double edgeLength = 0.0;
+  /// K: the remesh should have about K vertices (h from the sized area, see edgeLengthForVertexCount).
+  int targetVertices = 0;
+  /// #V per-vertex sizing factors s > 0 (local lattice unit = h / s), or empty for uniform.
+  /// See curvatureSizing for curvature-adaptive values.
+  std::vector<double> vertexSizing;
+  RoundingMethod rounding = RoundingMethod::Direct;
+  /// Greedy rounding: fraction of the remaining integer unknowns rounded per re-solve, in (0, 1].
+  double greedyBatchFraction = 0.25;
+  /// Maximum stiffening re-solves while flipped triangles remain (0 disables stiffening).
+  int maxStiffeningIterations = 10;
+  LinearSolver solver = LinearSolver::SimplicialLDLT;
+
+  /// Throws Error(InvalidOption) naming the first bad option.
+  void validate() const;
+};
+
+/// The seamless parameterization of `mesh` along `field` (N = 4 or 6). The result's
+/// cornerCoords satisfy the integer transitions exactly in floating point, every singular vertex
+/// sits on a lattice point, and flipped/degenerate triangles are counted (see parameterization.h).
+/// Throws Error(InvalidOption) for bad options or a field of another mesh, Error(InvalidMesh) for a
+/// mesh without faces, Error(NumericalFailure) when a solve fails, Error(Canceled) on request.
+Parameterization computeParameterization(const TriMesh& mesh, const RosyField& field,
+                                         const ParamOptions& options, const RunContext& context = {});
+
+/// h such that a lattice of order n with sizing `vertexSizing` (#V, empty = uniform) covers the
+/// mesh with about K vertices: a regular triangulation has 2 triangles per vertex of area
+/// √3/4·(h/s)², so h = sqrt(2·Σ_f A_f s_f² / (√3·K)) for N = 6 (one square of area (h/s)² per
+/// vertex for N = 4). Throws Error(InvalidOption) for K < 1.
+double edgeLengthForVertexCount(const TriMesh& mesh, int targetVertices, int n,
+                                const std::vector<double>& vertexSizing = {});
+
+/// Curvature-adaptive sizing (paper Fig. 13): s_v = |κ_max(v)| / median |κ_max|, clamped to
+/// [minScale, maxScale]; a lattice unit near v is h / s_v. `absMaxCurvature` is #V, ≥ 0.
+/// Throws Error(InvalidOption) for an empty input or a range with minScale ≤ 0 or > maxScale.
+std::vector<double> curvatureSizing(const std::vector<double>& absMaxCurvature, double minScale = 0.5,
+                                    double maxScale = 2.0);
+
+}  // namespace hexcover

@@ -1,0 +1,402 @@
+// Properties of the HexCover parameterization (core/param): exact seamlessness, singularities on
+// lattice points, a cut graph that opens every component into a disk, alignment with the field,
+// scale, fold-over counts, on generated meshes with prescribed fields.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <set>
+
+#include "core/common/error.h"
+#include "core/field/rosy_field.h"
+#include "core/mesh/primitives.h"
+#include "core/param/cut_graph.h"
+#include "core/param/hexcover.h"
+#include "core/param/lattice.h"
+
+namespace hexcover {
+namespace {
+
+Eigen::Vector3d faceCentroid(const TriMesh& mesh, OpenMesh::FaceHandle fh) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const auto vh : mesh.fv_range(fh)) c += toEigen(mesh.point(vh)) / 3.0;
+  return c;
+}
+
+/// Torus: the direction of the major circle, a field without singularities. It has curl (unit
+/// speed around circles of different radii), so the parameterization cannot follow it exactly;
+/// the tests use a slender torus (R = 6r) where the lattice unit still varies by ±1/6 across it.
+RosyField torusField(const TriMesh& mesh, int n) {
+  std::vector<Eigen::Vector3d> directions;
+  for (const auto fh : mesh.faces()) {
+    const Eigen::Vector3d c = faceCentroid(mesh, fh);
+    directions.emplace_back(-c.y(), c.x(), 0.0);
+  }
+  return rosyFieldFromDirections(mesh, directions, n);
+}
+
+/// Icosphere: each face takes an edge direction of the icosahedron face it lies over; the
+/// 6-RoSy field is smooth except at the 12 icosahedron vertices (index +1/6 each).
+RosyField icosahedralField(const TriMesh& mesh) {
+  const TriMesh ico = makeIcosphere(0);
+  std::vector<Eigen::Vector3d> directions;
+  for (const auto fh : mesh.faces()) {
+    const Eigen::Vector3d c = faceCentroid(mesh, fh).normalized();
+    double best = -2.0;
+    Eigen::Vector3d direction;
+    for (const auto gh : ico.faces()) {
+      const double score = faceCentroid(ico, gh).normalized().dot(c);
+      if (score <= best) continue;
+      best = score;
+      const auto h = ico.halfedge_handle(gh);
+      direction = toEigen(ico.point(ico.to_vertex_handle(h))) -
+                  toEigen(ico.point(ico.from_vertex_handle(h)));
+    }
+    directions.push_back(direction);
+  }
+  return rosyFieldFromDirections(mesh, directions, 6);
+}
+
+RosyField constantField(const TriMesh& mesh, const Eigen::Vector3d& direction, int n) {
+  return rosyFieldFromDirections(mesh, std::vector<Eigen::Vector3d>(mesh.n_faces(), direction), n);
+}
+
+bool isInteger(double x) { return x == std::round(x); }
+
+/// For every interior edge: the coordinates of both endpoints in the two faces satisfy one
+/// transition z1 = R^k z0 + t with t integral, to `tolerance`, and it is the stored one.
+void expectSeamless(const TriMesh& mesh, const Parameterization& p, double tolerance = 1e-9) {
+  int checked = 0;
+  for (const auto eh : mesh.edges()) {
+    if (mesh.is_boundary(eh)) continue;
+    const auto h0 = mesh.halfedge_handle(eh, 0);
+    const auto h1 = mesh.halfedge_handle(eh, 1);
+    // Endpoints a = from(h0) = to(h1), b = to(h0) = from(h1).
+    const Eigen::Vector2d a0 = p.cornerCoords[mesh.prev_halfedge_handle(h0).idx()];
+    const Eigen::Vector2d b0 = p.cornerCoords[h0.idx()];
+    const Eigen::Vector2d a1 = p.cornerCoords[h1.idx()];
+    const Eigen::Vector2d b1 = p.cornerCoords[mesh.prev_halfedge_handle(h1).idx()];
+    const auto& transition = p.edgeTransition[eh.idx()];
+    const Eigen::Matrix2d r = latticeRotation(p.n, transition.rotation).cast<double>();
+    const Eigen::Vector2d ta = a1 - r * a0, tb = b1 - r * b0;
+    const Eigen::Vector2d t = transition.translation.cast<double>();
+    ASSERT_LE((ta - t).cwiseAbs().maxCoeff(), tolerance) << "edge " << eh.idx();
+    ASSERT_LE((tb - t).cwiseAbs().maxCoeff(), tolerance) << "edge " << eh.idx();
+    if (!p.cutEdge[eh.idx()]) {
+      EXPECT_EQ(transition.rotation, 0);
+      EXPECT_EQ(transition.translation, Eigen::Vector2i::Zero());
+    }
+    ++checked;
+  }
+  EXPECT_GT(checked, 0);
+}
+
+/// Every interior singular vertex has integer coordinates in all of its corners.
+void expectSingularitiesOnLattice(const TriMesh& mesh, const RosyField& field,
+                                  const Parameterization& p) {
+  for (const auto& s : field.singularities) {
+    const auto vh = mesh.vertex_handle(s.vertex);
+    if (mesh.is_boundary(vh)) continue;
+    for (const auto h : mesh.vih_range(vh)) {
+      const Eigen::Vector2d z = p.cornerCoords[h.idx()];
+      EXPECT_TRUE(isInteger(z.x()) && isInteger(z.y()))
+          << "singular vertex " << s.vertex << " (index " << s.index << "/" << field.n << ") at ("
+          << z.x() << ", " << z.y() << ")";
+    }
+  }
+}
+
+/// Euler characteristic of the mesh cut open along the cut edges, per component: corners of a
+/// vertex split into one wedge per cut edge (plus one at a boundary vertex).
+std::vector<int> cutMeshEulerCharacteristic(const TriMesh& mesh, const std::vector<bool>& cutEdge,
+                                            const std::vector<int>& faceComponent, int components) {
+  std::vector<int> chi(components, 0);
+  for (const auto fh : mesh.faces()) ++chi[faceComponent[fh.idx()]];
+  for (const auto eh : mesh.edges()) {
+    const auto h = mesh.is_boundary(mesh.halfedge_handle(eh, 0)) ? mesh.halfedge_handle(eh, 1)
+                                                                 : mesh.halfedge_handle(eh, 0);
+    chi[faceComponent[mesh.face_handle(h).idx()]] -= cutEdge[eh.idx()] ? 2 : 1;
+  }
+  for (const auto vh : mesh.vertices()) {
+    if (mesh.is_isolated(vh)) continue;
+    int cuts = 0;
+    for (const auto eh : mesh.ve_range(vh)) cuts += cutEdge[eh.idx()] ? 1 : 0;
+    const int wedges = mesh.is_boundary(vh) ? cuts + 1 : std::max(cuts, 1);
+    chi[faceComponent[mesh.face_handle(mesh.halfedge_handle(vh)).is_valid()
+                          ? mesh.face_handle(mesh.halfedge_handle(vh)).idx()
+                          : mesh.opposite_face_handle(mesh.halfedge_handle(vh)).idx()]] += wedges;
+  }
+  return chi;
+}
+
+/// Per face: gradient of the Cartesian u coordinate (3D) and area.
+struct FaceGradients {
+  std::vector<Eigen::Vector3d> gradU, gradV, normal;
+  std::vector<double> area;
+  std::vector<Eigen::Matrix2d> inverseJacobian;  // param Cartesian -> surface (tangent basis)
+};
+
+FaceGradients faceGradients(const TriMesh& mesh, const Parameterization& p) {
+  FaceGradients g;
+  const Eigen::Matrix2d basis = latticeBasis(p.n);
+  for (const auto fh : mesh.faces()) {
+    std::array<Eigen::Vector3d, 3> x;
+    std::array<Eigen::Vector2d, 3> z;
+    int c = 0;
+    for (const auto h : mesh.fh_range(fh)) {
+      x[c] = toEigen(mesh.point(mesh.to_vertex_handle(h)));
+      z[c++] = basis * p.cornerCoords[h.idx()];
+    }
+    const Eigen::Vector3d cross = (x[1] - x[0]).cross(x[2] - x[0]);
+    const Eigen::Vector3d normal = cross.normalized();
+    Eigen::Vector3d gu = Eigen::Vector3d::Zero(), gv = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d hat = normal.cross(x[(k + 2) % 3] - x[(k + 1) % 3]) / cross.norm();
+      gu += z[k].x() * hat;
+      gv += z[k].y() * hat;
+    }
+    g.normal.push_back(normal);
+    g.gradU.push_back(gu);
+    g.gradV.push_back(gv);
+    g.area.push_back(0.5 * cross.norm());
+    const Eigen::Vector3d ex = (x[1] - x[0]).normalized(), ey = normal.cross(ex);
+    Eigen::Matrix2d jacobian;
+    jacobian << gu.dot(ex), gu.dot(ey), gv.dot(ex), gv.dot(ey);
+    g.inverseJacobian.push_back(jacobian.inverse());
+  }
+  return g;
+}
+
+/// Area-weighted mean angle (degrees) between ∇u and the nearest of the N field directions.
+double meanAlignmentDegrees(const TriMesh& mesh, const RosyField& field, const Parameterization& p) {
+  const FaceGradients g = faceGradients(mesh, p);
+  double sum = 0.0, area = 0.0;
+  for (const auto fh : mesh.faces()) {
+    const int f = fh.idx();
+    const Eigen::Vector3d d = field.faceDirection[f];
+    const Eigen::Vector3d e = g.normal[f].cross(d);
+    const double angle = std::atan2(g.gradU[f].dot(e), g.gradU[f].dot(d));
+    const double sector = 2.0 * M_PI / field.n;
+    const double offset = std::remainder(angle, sector);
+    sum += std::abs(offset) * g.area[f];
+    area += g.area[f];
+  }
+  return sum / area * 180.0 / M_PI;
+}
+
+/// Area-weighted mean surface length of the lattice's unit vectors: e1, e2, e2 − e1 (N = 6) or
+/// e1, e2 (N = 4).
+double meanLatticeUnitLength(const TriMesh& mesh, const Parameterization& p) {
+  const FaceGradients g = faceGradients(mesh, p);
+  const Eigen::Matrix2d basis = latticeBasis(p.n);
+  double sum = 0.0, area = 0.0;
+  for (std::size_t f = 0; f < g.area.size(); ++f) {
+    const Eigen::Vector2d e1 = basis.col(0), e2 = basis.col(1);
+    double length = (g.inverseJacobian[f] * e1).norm() + (g.inverseJacobian[f] * e2).norm();
+    if (p.n == 6) length += (g.inverseJacobian[f] * (e2 - e1)).norm();
+    sum += length / (p.n == 6 ? 3.0 : 2.0) * g.area[f];
+    area += g.area[f];
+  }
+  return sum / area;
+}
+
+void expectCutOpensToDisks(const TriMesh& mesh, const RosyField& field) {
+  const CutGraph cut = computeCutGraph(mesh, field);
+  const auto chi = cutMeshEulerCharacteristic(mesh, cut.cutEdge, cut.faceComponent, cut.componentCount);
+  for (int c = 0; c < cut.componentCount; ++c) EXPECT_EQ(chi[c], 1) << "component " << c;
+  for (const auto eh : mesh.edges())
+    if (!cut.cutEdge[eh.idx()]) EXPECT_EQ(cut.combedMatching[eh.idx()], 0);
+  for (const auto& s : field.singularities) {
+    const auto vh = mesh.vertex_handle(s.vertex);
+    if (mesh.is_boundary(vh)) continue;
+    EXPECT_EQ(cut.vertexHolonomy[s.vertex], ((s.index % field.n) + field.n) % field.n);
+    if (s.index % field.n == 0) continue;
+    int degree = 0;
+    for (const auto eh : mesh.ve_range(vh)) degree += cut.cutEdge[eh.idx()] ? 1 : 0;
+    EXPECT_GT(degree, 0) << "singular vertex " << s.vertex << " is not on the cut";
+  }
+}
+
+TEST(HexCover, PlanarGridWithConstantFieldIsTheExactLinearMap) {
+  const double edge = 0.1;
+  const TriMesh mesh = makeEquilateralGrid(12, 10, edge);
+  const RosyField field = constantField(mesh, Eigen::Vector3d::UnitX(), 6);
+  ParamOptions options;
+  options.edgeLength = edge;
+  const Parameterization p = computeParameterization(mesh, field, options);
+  EXPECT_EQ(p.cutLength, 0.0);
+  EXPECT_EQ(p.flippedTriangles, 0);
+  EXPECT_LT(p.energy, 1e-12 * mesh.n_faces());
+  EXPECT_LT(p.distortion.angleMax, 1e-6);
+  // Every grid edge has length h, so it spans exactly one lattice unit in parameter space.
+  for (const auto fh : mesh.faces())
+    for (const auto h : mesh.fh_range(fh)) {
+      const Eigen::Vector2d dz =
+          p.cornerCoords[h.idx()] - p.cornerCoords[mesh.prev_halfedge_handle(h).idx()];
+      EXPECT_NEAR((latticeBasis(6) * dz).norm(), 1.0, 1e-7);
+    }
+  EXPECT_NEAR(meanLatticeUnitLength(mesh, p), edge, 1e-7 * edge);
+  EXPECT_LT(meanAlignmentDegrees(mesh, field, p), 1e-6);
+  expectSeamless(mesh, p);
+}
+
+TEST(HexCover, TorusWithoutSingularitiesIsSeamlessWithIntegerPeriods) {
+  const TriMesh mesh = makeTorus(6.0, 1.0, 160, 24);
+  const RosyField field = torusField(mesh, 6);
+  ASSERT_TRUE(field.singularities.empty());
+  ParamOptions options;
+  options.edgeLength = 0.25;
+  const Parameterization p = computeParameterization(mesh, field, options);
+  expectSeamless(mesh, p);
+  EXPECT_EQ(p.flippedTriangles, 0);
+  EXPECT_EQ(p.degenerateTriangles, 0);
+  EXPECT_EQ(p.integerVariables, 4);  // two periods, two coordinates each
+  expectCutOpensToDisks(mesh, field);
+  EXPECT_NEAR(meanLatticeUnitLength(mesh, p) / options.edgeLength, 1.0, 0.05);
+  // The field is not curl-free (constant speed around circles of different radii): ∇u turns
+  // away from it by a few degrees; measured 0.0° here because the field is symmetric about u.
+  EXPECT_LT(meanAlignmentDegrees(mesh, field, p), 2.0);
+}
+
+TEST(HexCover, IcosphereSingularitiesSitOnLatticePoints) {
+  const TriMesh mesh = makeIcosphere(4);
+  const RosyField field = icosahedralField(mesh);
+  ASSERT_EQ(field.singularities.size(), 12u);
+  for (const auto& s : field.singularities) EXPECT_EQ(s.index, 1);
+  ParamOptions options;
+  options.edgeLength = 0.1;
+  const Parameterization p = computeParameterization(mesh, field, options);
+  expectSeamless(mesh, p);
+  expectSingularitiesOnLattice(mesh, field, p);
+  expectCutOpensToDisks(mesh, field);
+  EXPECT_EQ(p.flippedTriangles, 0);
+  EXPECT_EQ(p.singularities.size(), 12u);
+  for (const auto& s : p.singularities)
+    EXPECT_TRUE(isInteger(s.coords.x()) && isInteger(s.coords.y()));
+  EXPECT_NEAR(meanLatticeUnitLength(mesh, p) / options.edgeLength, 1.0, 0.05);
+  EXPECT_LT(meanAlignmentDegrees(mesh, field, p), 5.0);
+}
+
+TEST(HexCover, TubeIsCutBetweenItsTwoBoundaryLoops) {
+  const TriMesh mesh = makeTube(1.0, 3.0, 48, 27);
+  const RosyField field = constantField(mesh, Eigen::Vector3d::UnitZ(), 6);
+  const CutGraph cut = computeCutGraph(mesh, field);
+  EXPECT_GT(cut.cutEdgeCount, 0);
+  expectCutOpensToDisks(mesh, field);
+  ParamOptions options;
+  options.edgeLength = 0.2;
+  const Parameterization p = computeParameterization(mesh, field, options);
+  expectSeamless(mesh, p);
+  EXPECT_EQ(p.flippedTriangles, 0);
+}
+
+TEST(HexCover, QuadModeUsesGaussLatticeThroughTheSameCode) {
+  const TriMesh mesh = makeTorus(6.0, 1.0, 128, 20);
+  const RosyField field = torusField(mesh, 4);
+  ParamOptions options;
+  options.edgeLength = 0.3;
+  const Parameterization p = computeParameterization(mesh, field, options);
+  EXPECT_EQ(p.n, 4);
+  expectSeamless(mesh, p);
+  EXPECT_EQ(p.flippedTriangles, 0);
+  EXPECT_NEAR(meanLatticeUnitLength(mesh, p) / options.edgeLength, 1.0, 0.05);
+}
+
+TEST(HexCover, GreedyRoundingIsAlsoSeamless) {
+  const TriMesh mesh = makeIcosphere(3);
+  const RosyField field = icosahedralField(mesh);
+  ParamOptions options;
+  options.edgeLength = 0.15;
+  options.rounding = RoundingMethod::Greedy;
+  const Parameterization greedy = computeParameterization(mesh, field, options);
+  expectSeamless(mesh, greedy);
+  expectSingularitiesOnLattice(mesh, field, greedy);
+  options.rounding = RoundingMethod::Direct;
+  const Parameterization direct = computeParameterization(mesh, field, options);
+  // Both minimize the same energy over the same integer lattice; neither is far from the local
+  // (unconstrained) minimum, which bounds both from below.
+  EXPECT_GE(greedy.energy, greedy.localEnergy * (1 - 1e-9));
+  EXPECT_GE(direct.energy, direct.localEnergy * (1 - 1e-9));
+  EXPECT_NEAR(greedy.localEnergy, direct.localEnergy, 1e-9 * direct.localEnergy);
+}
+
+TEST(HexCover, EveryComponentGetsItsOwnDiskAndGauge) {
+  TriMesh mesh = makeTorus(3.0, 1.0, 48, 16);
+  const TriMesh sphere = makeIcosphere(3, 1.0);
+  std::vector<TriMesh::VertexHandle> added;
+  for (const auto vh : sphere.vertices())
+    added.push_back(mesh.add_vertex(sphere.point(vh) + TriMesh::Point(10.0, 0.0, 0.0)));
+  for (const auto fh : sphere.faces()) {
+    std::vector<TriMesh::VertexHandle> corners;
+    for (const auto vh : sphere.fv_range(fh)) corners.push_back(added[vh.idx()]);
+    mesh.add_face(corners);
+  }
+  std::vector<Eigen::Vector3d> directions;
+  const RosyField torus = torusField(makeTorus(3.0, 1.0, 48, 16), 6);
+  const RosyField ico = icosahedralField(sphere);
+  directions.insert(directions.end(), torus.faceDirection.begin(), torus.faceDirection.end());
+  directions.insert(directions.end(), ico.faceDirection.begin(), ico.faceDirection.end());
+  const RosyField field = rosyFieldFromDirections(mesh, directions, 6);
+  const CutGraph cut = computeCutGraph(mesh, field);
+  EXPECT_EQ(cut.componentCount, 2);
+  expectCutOpensToDisks(mesh, field);
+  ParamOptions options;
+  options.edgeLength = 0.2;
+  const Parameterization p = computeParameterization(mesh, field, options);
+  expectSeamless(mesh, p);
+  expectSingularitiesOnLattice(mesh, field, p);
+}
+
+TEST(HexCover, VertexCountTargetSetsTheEdgeLength) {
+  const TriMesh mesh = makeIcosphere(3);
+  const double area = 4.0 * M_PI;  // close to the icosphere's area
+  const double h = edgeLengthForVertexCount(mesh, 1000, 6);
+  EXPECT_NEAR(h, std::sqrt(2.0 * area / (std::sqrt(3.0) * 1000)), 0.01 * h);
+  // Doubling the sizing everywhere halves h for the same count.
+  EXPECT_NEAR(edgeLengthForVertexCount(mesh, 1000, 6, std::vector<double>(mesh.n_vertices(), 2.0)),
+              2.0 * h, 1e-12);
+}
+
+TEST(HexCover, CurvatureSizingIsRelativeToTheMedianAndClamped) {
+  const std::vector<double> sizing = curvatureSizing({0.0, 1.0, 2.0, 4.0, 100.0}, 0.5, 3.0);
+  EXPECT_DOUBLE_EQ(sizing[0], 0.5);
+  EXPECT_DOUBLE_EQ(sizing[1], 0.5);
+  EXPECT_DOUBLE_EQ(sizing[2], 1.0);
+  EXPECT_DOUBLE_EQ(sizing[3], 2.0);
+  EXPECT_DOUBLE_EQ(sizing[4], 3.0);
+}
+
+TEST(HexCover, SizingShrinksTheLatticeUnitLocally) {
+  const TriMesh mesh = makeTorus(6.0, 1.0, 160, 24);
+  const RosyField field = torusField(mesh, 6);
+  ParamOptions options;
+  options.edgeLength = 0.25;
+  options.vertexSizing.assign(mesh.n_vertices(), 2.0);
+  const Parameterization p = computeParameterization(mesh, field, options);
+  expectSeamless(mesh, p);
+  EXPECT_NEAR(meanLatticeUnitLength(mesh, p) / (options.edgeLength / 2.0), 1.0, 0.05);
+}
+
+TEST(HexCover, BadOptionsAndForeignFieldsAreRefusedWithInvalidOption) {
+  const TriMesh mesh = makeIcosphere(1);
+  const RosyField field = icosahedralField(mesh);
+  ParamOptions options;
+  options.edgeLength = -1.0;
+  try {
+    computeParameterization(mesh, field, options);
+    FAIL() << "negative edge length accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::InvalidOption);
+  }
+  const RosyField other = icosahedralField(makeIcosphere(2));
+  try {
+    computeParameterization(mesh, other, ParamOptions{});
+    FAIL() << "field of another mesh accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::InvalidOption);
+  }
+}
+
+}  // namespace
+}  // namespace hexcover
