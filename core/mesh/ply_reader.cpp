@@ -241,7 +241,8 @@ std::uint64_t readListCount(Values& values, const Property& property, std::uint6
   const std::int64_t n = values.integer(property.countType);
   if (n < 0) values.fail("negative list length " + std::to_string(n) + " in property '" + property.name + "'");
   if (static_cast<std::uint64_t>(n) > limit)
-    values.fail("list length " + std::to_string(n) + " in property '" + property.name + "' exceeds the data left");
+    values.fail("list length " + std::to_string(n) + " in property '" + property.name +
+                "' exceeds the data left (truncated or corrupt data)");
   return static_cast<std::uint64_t>(n);
 }
 

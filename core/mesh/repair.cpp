@@ -98,64 +98,69 @@ void triangulateFace(const PolygonSoup& soup, std::size_t f, std::vector<Triangl
   out.push_back({ring[0], ring[1], ring[2]});
 }
 
-// Representative of every vertex after welding referenced vertices: first by exact position,
-// then within `tolerance` (greedy in index order over a hash grid of cell size `tolerance`).
-// Representatives are the lowest index of their group; unreferenced vertices map to themselves.
+// Representative of every vertex after welding referenced vertices closer than `tolerance`
+// (exactly coincident ones when it is 0): the lowest index of each group of vertices linked by
+// such distances. Unreferenced vertices map to themselves.
 std::vector<std::uint32_t> weldVertices(const std::vector<Eigen::Vector3d>& positions,
                                         const std::vector<bool>& referenced, double tolerance) {
-  std::vector<std::uint32_t> representative(positions.size());
-  std::iota(representative.begin(), representative.end(), 0u);
-  std::vector<std::uint32_t> order;
-  for (std::uint32_t v = 0; v < positions.size(); ++v)
-    if (referenced[v]) order.push_back(v);
-  const auto key = [&](std::uint32_t v) {
-    return std::array<double, 3>{positions[v].x(), positions[v].y(), positions[v].z()};
-  };
-  std::sort(order.begin(), order.end(), [&](auto a, auto b) {
-    const auto ka = key(a), kb = key(b);
-    return ka < kb || (ka == kb && a < b);
-  });
-  for (std::size_t i = 1; i < order.size(); ++i)
-    if (key(order[i]) == key(order[i - 1])) representative[order[i]] = representative[order[i - 1]];
-  if (!(tolerance > 0.0)) return representative;
-
-  using Cell = std::array<std::int64_t, 3>;
-  struct CellHash {
-    std::size_t operator()(const Cell& c) const {
-      return static_cast<std::size_t>(c[0] * 73856093LL ^ c[1] * 19349663LL ^ c[2] * 83492791LL);
-    }
-  };
-  std::unordered_map<Cell, std::uint32_t, CellHash> cellHead;  // first representative in a cell
-  std::vector<std::uint32_t> next(positions.size(), kNone);    // chain of representatives per cell
-  const auto cellOf = [&](const Eigen::Vector3d& p) {
-    return Cell{static_cast<std::int64_t>(std::floor(p.x() / tolerance)),
-                static_cast<std::int64_t>(std::floor(p.y() / tolerance)),
-                static_cast<std::int64_t>(std::floor(p.z() / tolerance))};
-  };
-  const double toleranceSquared = tolerance * tolerance;
-  for (std::uint32_t v = 0; v < positions.size(); ++v) {
-    if (!referenced[v] || representative[v] != v) continue;
-    const Cell cell = cellOf(positions[v]);
-    std::uint32_t match = kNone;
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) {
-          const auto it = cellHead.find({cell[0] + dx, cell[1] + dy, cell[2] + dz});
-          if (it == cellHead.end()) continue;
-          for (std::uint32_t w = it->second; w != kNone; w = next[w])
-            if (w < match && (positions[w] - positions[v]).squaredNorm() <= toleranceSquared) match = w;
-        }
-    if (match != kNone) {
-      representative[v] = match;
-      continue;
-    }
-    auto [it, inserted] = cellHead.try_emplace(cell, v);
-    if (!inserted) {
-      next[v] = it->second;
-      it->second = v;
+  detail::UnionFind groups(positions.size());
+  if (!(tolerance > 0.0)) {
+    std::vector<std::uint32_t> order;
+    for (std::uint32_t v = 0; v < positions.size(); ++v)
+      if (referenced[v]) order.push_back(v);
+    const auto key = [&](std::uint32_t v) {
+      return std::array<double, 3>{positions[v].x(), positions[v].y(), positions[v].z()};
+    };
+    std::sort(order.begin(), order.end(), [&](auto a, auto b) { return key(a) < key(b); });
+    for (std::size_t i = 1; i < order.size(); ++i)
+      if (key(order[i]) == key(order[i - 1])) groups.unite(order[i], order[i - 1]);
+  } else {
+    // Hash grid of cell size 2·tolerance: a point's partners within `tolerance` lie in the 2×2×2
+    // cells on the sides of its own cell that it is closest to.
+    using Cell = std::array<std::int64_t, 3>;
+    struct CellHash {
+      std::size_t operator()(const Cell& c) const {
+        std::uint64_t h = 14695981039346656037ull;
+        for (const auto x : c) h = (h ^ static_cast<std::uint64_t>(x)) * 1099511628211ull;
+        return static_cast<std::size_t>(h ^ (h >> 32));
+      }
+    };
+    const double cellSize = 2.0 * tolerance;
+    std::unordered_map<Cell, std::uint32_t, CellHash> cellHead;  // last vertex put in a cell
+    cellHead.reserve(positions.size());
+    std::vector<std::uint32_t> next(positions.size(), kNone);   // chain of vertices per cell
+    const double toleranceSquared = tolerance * tolerance;
+    for (std::uint32_t v = 0; v < positions.size(); ++v) {
+      if (!referenced[v]) continue;
+      const Eigen::Vector3d scaled = positions[v] / cellSize;
+      const Cell cell{static_cast<std::int64_t>(std::floor(scaled.x())), static_cast<std::int64_t>(std::floor(scaled.y())),
+                      static_cast<std::int64_t>(std::floor(scaled.z()))};
+      Cell side{};
+      for (int i = 0; i < 3; ++i) side[i] = scaled[i] - static_cast<double>(cell[i]) < 0.5 ? -1 : 1;
+      // A vertex that welds is not put in the grid (its partner stands for it there), so that
+      // cells never hold more than a few mutually distant vertices: no quadratic chains.
+      bool welded = false;
+      for (int corner = 0; corner < 8; ++corner) {
+        const Cell probe{cell[0] + ((corner & 1) ? side[0] : 0), cell[1] + ((corner & 2) ? side[1] : 0),
+                         cell[2] + ((corner & 4) ? side[2] : 0)};
+        const auto it = cellHead.find(probe);
+        if (it == cellHead.end()) continue;
+        for (std::uint32_t w = it->second; w != kNone; w = next[w])
+          if ((positions[w] - positions[v]).squaredNorm() <= toleranceSquared) {
+            groups.unite(v, w);
+            welded = true;
+          }
+      }
+      if (welded) continue;
+      auto [it, inserted] = cellHead.try_emplace(cell, v);
+      if (!inserted) {
+        next[v] = it->second;
+        it->second = v;
+      }
     }
   }
-  for (std::uint32_t v = 0; v < positions.size(); ++v) representative[v] = representative[representative[v]];
+  std::vector<std::uint32_t> representative(positions.size());
+  for (std::uint32_t v = 0; v < positions.size(); ++v) representative[v] = groups.find(v);
   return representative;
 }
 
@@ -182,9 +187,8 @@ std::size_t filterTriangles(std::vector<Triangle>& tris, std::vector<std::uint32
 }
 
 // Splits non-manifold edges and vertices: vertices get one copy per fan of triangles, where fans
-// are joined across two-triangle edges and, for an edge with more triangles, across one pair
-// only (the first triangle and the first one that traverses the edge the other way, so that the
-// pair is consistently oriented when possible). Appends copies to `positions` and records the
+// are joined across two-triangle edges and, for an edge with more triangles, across consistently
+// oriented pairs of them only (so each pair ends up on its own copy of the edge). Appends copies to `positions` and records the
 // input vertex of each in `source`. Repeats while edges with more than two triangles remain
 // (a few rounds at most; anything left is refused by add_face and counted).
 void splitNonManifold(std::vector<Triangle>& tris, std::vector<Eigen::Vector3d>& positions,
@@ -204,13 +208,13 @@ void splitNonManifold(std::vector<Triangle>& tris, std::vector<Eigen::Vector3d>&
       ++splitEdges;
       const std::uint32_t tail = detail::halfedgeTail(tris, hs[0]);
       onSplitEdge[tail] = onSplitEdge[detail::halfedgeHead(tris, hs[0])] = true;
-      std::uint32_t partner = hs[1];
-      for (std::size_t i = 1; i < k; ++i)
-        if (detail::halfedgeTail(tris, hs[i]) != tail) {
-          partner = hs[i];
-          break;
-        }
-      pairs.push_back({hs[0], partner});
+      // Glue the triangles in consistently oriented pairs (one traversing the edge each way),
+      // in index order; the rest stay alone on their own copy of the edge.
+      std::vector<std::uint32_t> forward, backward;
+      for (std::size_t i = 0; i < k; ++i)
+        (detail::halfedgeTail(tris, hs[i]) == tail ? forward : backward).push_back(hs[i]);
+      for (std::size_t i = 0; i < std::min(forward.size(), backward.size()); ++i)
+        pairs.push_back({forward[i], backward[i]});
     }
     detail::UnionFind fans = detail::cornerFans(tris, pairs);
     std::vector<std::uint32_t> firstFan(positions.size(), kNone);

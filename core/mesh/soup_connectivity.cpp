@@ -6,21 +6,39 @@
 namespace hexcover::detail {
 
 EdgeTable buildEdgeTable(const std::vector<Triangle>& triangles) {
+  // Bucket the half-edges by their lower vertex (counting sort), then order each small bucket by
+  // (upper vertex, half-edge): O(#half-edges) instead of a global sort.
   const std::size_t halfedgeCount = 3 * triangles.size();
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(halfedgeCount);
-  for (std::uint32_t h = 0; h < halfedgeCount; ++h) {
-    const std::uint64_t a = halfedgeTail(triangles, h);
-    const std::uint64_t b = halfedgeHead(triangles, h);
-    keyed[h] = {std::min(a, b) << 32 | std::max(a, b), h};
-  }
-  std::sort(keyed.begin(), keyed.end());
+  std::uint32_t vertexCount = 0;
+  for (const auto& t : triangles) vertexCount = std::max({vertexCount, t[0] + 1, t[1] + 1, t[2] + 1});
+  std::vector<std::uint32_t> bucketStart(vertexCount + 1, 0);
+  const auto lower = [&](std::uint32_t h) {
+    return std::min(halfedgeTail(triangles, h), halfedgeHead(triangles, h));
+  };
+  const auto upper = [&](std::uint32_t h) {
+    return std::max(halfedgeTail(triangles, h), halfedgeHead(triangles, h));
+  };
+  for (std::uint32_t h = 0; h < halfedgeCount; ++h) ++bucketStart[lower(h) + 1];
+  std::partial_sum(bucketStart.begin(), bucketStart.end(), bucketStart.begin());
   EdgeTable table;
   table.halfedges.resize(halfedgeCount);
-  table.edgeStarts.clear();
-  for (std::size_t i = 0; i < halfedgeCount; ++i) {
-    if (i == 0 || keyed[i].first != keyed[i - 1].first)
-      table.edgeStarts.push_back(static_cast<std::uint32_t>(i));
-    table.halfedges[i] = keyed[i].second;
+  {
+    std::vector<std::uint32_t> fill(bucketStart.begin(), bucketStart.end() - 1);
+    for (std::uint32_t h = 0; h < halfedgeCount; ++h) table.halfedges[fill[lower(h)]++] = h;
+  }
+  table.edgeStarts.reserve(halfedgeCount / 2 + 2);
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> bucket;
+  for (std::uint32_t v = 0; v < vertexCount; ++v) {
+    const auto first = table.halfedges.begin() + bucketStart[v];
+    const auto last = table.halfedges.begin() + bucketStart[v + 1];
+    bucket.clear();
+    for (auto it = first; it != last; ++it) bucket.emplace_back(upper(*it), *it);
+    std::sort(bucket.begin(), bucket.end());
+    for (std::size_t i = 0; i < bucket.size(); ++i) {
+      if (i == 0 || bucket[i].first != bucket[i - 1].first)
+        table.edgeStarts.push_back(static_cast<std::uint32_t>(bucketStart[v] + i));
+      first[static_cast<std::ptrdiff_t>(i)] = bucket[i].second;
+    }
   }
   table.edgeStarts.push_back(static_cast<std::uint32_t>(halfedgeCount));
   return table;
@@ -65,21 +83,14 @@ UnionFind cornerFans(const std::vector<Triangle>& triangles,
 }
 
 Orientation propagateOrientation(const std::vector<Triangle>& triangles, const EdgeTable& edges) {
-  // Adjacency of triangles across two-triangle edges, as (half-edge, opposite half-edge) pairs
-  // sorted by the first half-edge, hence grouped by triangle.
-  std::vector<std::array<std::uint32_t, 2>> pairs;
-  pairs.reserve(2 * edges.edgeCount());
+  // The opposite half-edge across every two-triangle edge (UINT32_MAX elsewhere).
+  std::vector<std::uint32_t> opposite(3 * triangles.size(), UINT32_MAX);
   for (std::size_t e = 0; e < edges.edgeCount(); ++e) {
     if (edges.valence(e) != 2) continue;
     const std::uint32_t* hs = edges.halfedges.data() + edges.edgeStarts[e];
-    pairs.push_back({hs[0], hs[1]});
-    pairs.push_back({hs[1], hs[0]});
+    opposite[hs[0]] = hs[1];
+    opposite[hs[1]] = hs[0];
   }
-  std::sort(pairs.begin(), pairs.end());
-  std::vector<std::uint32_t> start(triangles.size() + 1, 0);
-  for (const auto& p : pairs) ++start[p[0] / 3 + 1];
-  std::partial_sum(start.begin(), start.end(), start.begin());
-
   Orientation result;
   result.sign.assign(triangles.size(), 0);
   result.patch.assign(triangles.size(), UINT32_MAX);
@@ -93,8 +104,9 @@ Orientation propagateOrientation(const std::vector<Triangle>& triangles, const E
     queue.assign(1, root);
     for (std::size_t q = 0; q < queue.size(); ++q) {
       const std::uint32_t t = queue[q];
-      for (std::uint32_t i = start[t]; i < start[t + 1]; ++i) {
-        const auto [h, g] = pairs[i];
+      for (std::uint32_t h = 3 * t; h < 3 * t + 3; ++h) {
+        const std::uint32_t g = opposite[h];
+        if (g == UINT32_MAX) continue;
         // Consistent neighbours traverse the shared edge in opposite directions.
         const bool sameDirection = halfedgeTail(triangles, h) == halfedgeTail(triangles, g);
         const auto want = static_cast<std::int8_t>(sameDirection ? -result.sign[t] : result.sign[t]);

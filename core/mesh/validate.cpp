@@ -36,25 +36,38 @@ bool isDegenerateFace(const PolygonSoup& soup, std::size_t f) {
   return !(normal.norm() > 1e-12 * longest);
 }
 
-// Faces whose sorted vertex lists equal an earlier face's.
+// Faces whose sorted vertex lists equal an earlier face's: faces are grouped by a hash of their
+// sorted corners, then compared within equal hashes.
 std::size_t countDuplicateFaces(const PolygonSoup& soup) {
   std::vector<std::uint32_t> sortedCorners = soup.cornerVertices;
-  for (std::size_t f = 0; f < soup.faceCount(); ++f)
-    std::sort(sortedCorners.begin() + soup.faceStarts[f], sortedCorners.begin() + soup.faceStarts[f + 1]);
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> hashed(soup.faceCount());
+  for (std::uint32_t f = 0; f < soup.faceCount(); ++f) {
+    const auto first = sortedCorners.begin() + soup.faceStarts[f];
+    const auto last = sortedCorners.begin() + soup.faceStarts[f + 1];
+    std::sort(first, last);
+    std::uint64_t hash = 14695981039346656037ull;
+    for (auto it = first; it != last; ++it) hash = (hash ^ *it) * 1099511628211ull;
+    hashed[f] = {hash, f};
+  }
+  std::sort(hashed.begin(), hashed.end());
   const auto face = [&](std::uint32_t f) {
     return std::span<const std::uint32_t>(sortedCorners.data() + soup.faceStarts[f], soup.faceSize(f));
   };
-  std::vector<std::uint32_t> order(soup.faceCount());
-  std::iota(order.begin(), order.end(), 0u);
-  const auto less = [&](std::uint32_t a, std::uint32_t b) {
-    const auto fa = face(a), fb = face(b);
-    return std::lexicographical_compare(fa.begin(), fa.end(), fb.begin(), fb.end());
-  };
-  std::sort(order.begin(), order.end(), less);
   std::size_t duplicates = 0;
-  for (std::size_t i = 1; i < order.size(); ++i) {
-    const auto fa = face(order[i - 1]), fb = face(order[i]);
-    if (std::equal(fa.begin(), fa.end(), fb.begin(), fb.end())) ++duplicates;
+  for (std::size_t i = 0; i < hashed.size();) {
+    std::size_t j = i + 1;
+    while (j < hashed.size() && hashed[j].first == hashed[i].first) ++j;
+    // Within a run of equal hashes, order the faces and count those equal to their predecessor.
+    std::sort(hashed.begin() + static_cast<std::ptrdiff_t>(i), hashed.begin() + static_cast<std::ptrdiff_t>(j),
+              [&](const auto& a, const auto& b) {
+                const auto fa = face(a.second), fb = face(b.second);
+                return std::lexicographical_compare(fa.begin(), fa.end(), fb.begin(), fb.end());
+              });
+    for (std::size_t a = i + 1; a < j; ++a) {
+      const auto fa = face(hashed[a - 1].second), fb = face(hashed[a].second);
+      duplicates += std::equal(fa.begin(), fa.end(), fb.begin(), fb.end());
+    }
+    i = j;
   }
   return duplicates;
 }
