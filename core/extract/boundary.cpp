@@ -161,9 +161,11 @@ std::vector<double> sampleBoundaryLoop(const BoundaryIndex& index, int loop, dou
   return samples;
 }
 
-void stitchStrip(const std::vector<int>& outer, const std::vector<double>& outerArc,
-                 const std::vector<int>& front, const std::vector<double>& frontArc,
-                 double loopLength, std::vector<Triangle>& out) {
+void stitchStrip(const std::vector<Eigen::Vector3d>& positions,
+                 const std::vector<Eigen::Vector3d>& normals, const std::vector<int>& outer,
+                 const std::vector<double>& outerArc, const std::vector<int>& front,
+                 const std::vector<double>& frontArc, double loopLength,
+                 std::vector<Triangle>& out) {
   const std::size_t m = outer.size(), n = front.size();
   // Start the front at the vertex whose position along the loop is nearest the first sample,
   // then unwrap its positions into a non-decreasing sequence beginning near outerArc[0].
@@ -183,16 +185,35 @@ void stitchStrip(const std::vector<int>& outer, const std::vector<double>& outer
   std::vector<double> s(outerArc);
   s.push_back(outerArc[0] + loopLength);
 
-  // Merge the two sequences by position: advance the side whose next vertex comes first.
+  // Zip the two sequences: each step adds the triangle on the next outer edge or the one on the
+  // next front edge. Prefer the one that faces the surface's side and has the larger smallest
+  // angle; when neither faces the right way, follow the positions along the loop.
+  const auto quality = [&](int a, int b, int c, const Eigen::Vector3d& normal) {
+    const Eigen::Vector3d &pa = positions[a], &pb = positions[b], &pc = positions[c];
+    if ((pb - pa).cross(pc - pa).dot(normal) <= 0.0) return -1.0;
+    double smallest = M_PI;
+    const std::array<Eigen::Vector3d, 3> p{pa, pb, pc};
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d u = p[(k + 1) % 3] - p[k], w = p[(k + 2) % 3] - p[k];
+      smallest = std::min(smallest, std::atan2(u.cross(w).norm(), u.dot(w)));
+    }
+    return smallest;
+  };
   std::size_t i = 0, j = 0;
   while (i < m || j < n) {
-    const bool advanceOuter = j == n || (i < m && s[i + 1] <= t[j + 1]);
-    const int l = front[(start + j) % n];
+    const int b0 = outer[i % m], b1 = outer[(i + 1) % m];
+    const int l0 = front[(start + j) % n], l1 = front[(start + j + 1) % n];
+    bool advanceOuter = j == n;
+    if (i < m && j < n) {
+      const double onOuter = quality(b0, b1, l0, normals[l0]);
+      const double onFront = quality(l1, l0, b0, normals[l0] + normals[l1]);
+      advanceOuter = onOuter < 0.0 && onFront < 0.0 ? s[i + 1] <= t[j + 1] : onOuter >= onFront;
+    }
     if (advanceOuter) {
-      out.push_back({outer[i], outer[(i + 1) % m], l});
+      out.push_back({b0, b1, l0});
       ++i;
     } else {
-      out.push_back({front[(start + j + 1) % n], l, outer[i % m]});
+      out.push_back({l1, l0, b0});
       ++j;
     }
   }

@@ -4,6 +4,7 @@
 // loop, the strip between a lattice front and the input boundary, and hole filling.
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
 #include <limits>
@@ -59,10 +60,15 @@ std::vector<double> sampleBoundaryLoop(const BoundaryIndex& index, int loop, dou
 /// its left) and an inner front (a boundary loop of the lattice triangles, which lie on its left),
 /// both closed and running the same way. outerArc: ascending arc positions of the samples;
 /// frontArc: arc positions of the front vertices' nearest points on the same loop; loopLength the
-/// loop's length. Appends consistently oriented triangles to `out`.
-void stitchStrip(const std::vector<int>& outer, const std::vector<double>& outerArc,
-                 const std::vector<int>& front, const std::vector<double>& frontArc,
-                 double loopLength, std::vector<Triangle>& out);
+/// loop's length; normals: the surface normal at each front vertex (indexed like positions).
+/// Each step adds the triangle on the next sample edge or on the next front edge, whichever faces
+/// along the normals with the larger smallest angle (advancing along the loop when neither does).
+/// Appends consistently oriented triangles to `out`.
+void stitchStrip(const std::vector<Eigen::Vector3d>& positions,
+                 const std::vector<Eigen::Vector3d>& normals, const std::vector<int>& outer,
+                 const std::vector<double>& outerArc, const std::vector<int>& front,
+                 const std::vector<double>& frontArc, double loopLength,
+                 std::vector<Triangle>& out);
 
 /// Closes a hole bounded by `loop` (a boundary loop of the triangles, triangles on its left):
 /// one triangle for 3 vertices, the shorter diagonal for 4, else a fan around a new vertex at the

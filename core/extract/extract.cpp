@@ -426,6 +426,17 @@ std::vector<double> localEdgeLength(const Assembly& out) {
   return sum;
 }
 
+/// Area-weighted normal of the triangles at each vertex (zero where none).
+std::vector<Eigen::Vector3d> vertexNormals(const Assembly& out) {
+  std::vector<Eigen::Vector3d> normal(out.positions.size(), Eigen::Vector3d::Zero());
+  for (const auto& t : out.triangles) {
+    const Eigen::Vector3d n = (out.positions[t[1]] - out.positions[t[0]])
+                                  .cross(out.positions[t[2]] - out.positions[t[0]]);
+    for (const int v : t) normal[v] += n;
+  }
+  return normal;
+}
+
 double median(std::vector<double> values) {
   if (values.empty()) return 0.0;
   std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
@@ -508,6 +519,7 @@ void closeBoundaries(const TriMesh& mesh, const std::vector<int>& faceComponent,
                                         false);
   for (const auto& t : out.triangles) componentHasLattice[out.component[t[0]]] = true;
 
+  const std::vector<Eigen::Vector3d> normals = vertexNormals(out);
   std::vector<Triangle> added;
   for (int i = 0; i < static_cast<int>(inputLoops.size()); ++i) {
     if (!componentHasLattice[inputLoopComponent[i]]) continue;  // the component is copied
@@ -536,7 +548,8 @@ void closeBoundaries(const TriMesh& mesh, const std::vector<int>& faceComponent,
       frontArc.push_back(hit.loop >= 0 ? hit.arc : (frontArc.empty() ? 0.0 : frontArc.back()));
     }
     const std::size_t before = added.size();
-    stitchStrip(samples, sampleArc, front, frontArc, index.loopLength(i), added);
+    stitchStrip(out.positions, normals, samples, sampleArc, front, frontArc, index.loopLength(i),
+                added);
     report.stripTriangles += static_cast<long long>(added.size() - before);
   }
   std::sort(gaps.begin(), gaps.end());
