@@ -8,4 +8,8 @@ namespace hexcover::cli {
 /// A subcommand: argv[0] is the program, argv[1] the subcommand name, arguments from argv[2].
 using Command = int (*)(int argc, char** argv);
 
+/// `hexcover metrics RESULT [--reference INPUT]`: quality metrics as one JSON object
+/// (metrics_command.cpp).
+int runMetrics(int argc, char** argv);
+
 }  // namespace hexcover::cli

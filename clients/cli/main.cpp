@@ -25,6 +25,7 @@ int printVersion(int, char**) {
 // One row per subcommand; each is implemented in <name>_command.cpp.
 constexpr Subcommand kSubcommands[] = {
     {"version", "version", printVersion},
+    {"metrics", "metrics RESULT [--reference INPUT]", runMetrics},
 };
 
 int printUsage(std::ostream& out) {

@@ -40,7 +40,7 @@ int MeshTopology::genus() const {
 bool MeshTopology::sameAs(const MeshTopology& other) const {
   if (components != other.components) return false;
   const auto signature = [](const MeshTopology& t) {
-    std::vector<std::tuple<int, int, int>> s;
+    std::vector<std::tuple<long long, std::size_t, int>> s;
     for (const auto& c : t.perComponent) s.emplace_back(c.eulerCharacteristic, c.boundaryLoops, c.genus);
     std::sort(s.begin(), s.end());
     return s;
@@ -105,11 +105,12 @@ MeshTopology computeTopology(const TriMesh& mesh) {
   }
 
   for (auto& c : topology.perComponent) {
-    c.eulerCharacteristic = c.vertices - c.edges + c.faces;
-    const int twiceGenus = 2 - c.eulerCharacteristic - c.boundaryLoops;
-    c.genus = c.manifold && twiceGenus >= 0 && twiceGenus % 2 == 0 ? twiceGenus / 2 : -1;
-    topology.boundaryLoops += c.boundaryLoops;
-    topology.eulerCharacteristic += c.eulerCharacteristic;
+    c.eulerCharacteristic = static_cast<long long>(c.vertices) - static_cast<long long>(c.edges) +
+                            static_cast<long long>(c.faces);
+    const long long twiceGenus = 2 - c.eulerCharacteristic - static_cast<long long>(c.boundaryLoops);
+    c.genus = c.manifold && twiceGenus >= 0 && twiceGenus % 2 == 0 ? static_cast<int>(twiceGenus / 2) : -1;
+    topology.boundaryLoops += static_cast<int>(c.boundaryLoops);
+    topology.eulerCharacteristic += static_cast<int>(c.eulerCharacteristic);
     topology.manifold = topology.manifold && c.manifold;
   }
   return topology;

@@ -11,20 +11,9 @@
 #include <vector>
 
 #include "core/mesh/mesh.h"
+#include "core/mesh/report.h"  // ComponentTopology
 
 namespace hexcover {
-
-/// Invariants of one connected component (counts of referenced elements).
-struct ComponentTopology {
-  int vertices = 0;
-  int edges = 0;
-  int faces = 0;
-  int boundaryLoops = 0;
-  int eulerCharacteristic = 0;  ///< V − E + F
-  /// (2 − χ − b) / 2; −1 when the component has a non-manifold vertex (genus undefined).
-  int genus = 0;
-  bool manifold = true;
-};
 
 /// Invariants of the whole mesh; totals are sums over the components.
 struct MeshTopology {
@@ -32,7 +21,9 @@ struct MeshTopology {
   int boundaryLoops = 0;
   int eulerCharacteristic = 0;
   int isolatedVertices = 0;  ///< vertices that belong to no face (not counted in χ)
-  std::vector<ComponentTopology> perComponent;  ///< ordered by each component's lowest face index
+  /// Ordered by each component's lowest face index; `orientable` is always true (OpenMesh stores
+  /// consistently oriented faces), genus is −1 for a component with a non-manifold vertex.
+  std::vector<ComponentTopology> perComponent;
   bool manifold = true;  ///< every vertex has a single fan of faces (OpenMesh edges always are)
 
   /// Sum of the component genera; −1 if any component's genus is undefined.

@@ -16,9 +16,9 @@ TEST(Topology, IcosphereIsOneClosedGenusZeroSurface) {
   EXPECT_EQ(t.genus(), 0);
   EXPECT_TRUE(t.manifold);
   ASSERT_EQ(t.perComponent.size(), 1u);
-  EXPECT_EQ(t.perComponent[0].vertices, 162);
-  EXPECT_EQ(t.perComponent[0].faces, 320);
-  EXPECT_EQ(t.perComponent[0].edges, 480);
+  EXPECT_EQ(t.perComponent[0].vertices, 162u);
+  EXPECT_EQ(t.perComponent[0].faces, 320u);
+  EXPECT_EQ(t.perComponent[0].edges, 480u);
 }
 
 TEST(Topology, TorusHasGenusOne) {
