@@ -8,8 +8,14 @@ namespace hexcover::cli {
 /// A subcommand: argv[0] is the program, argv[1] the subcommand name, arguments from argv[2].
 using Command = int (*)(int argc, char** argv);
 
+/// `hexcover info MESH`: validation and repair report as one JSON object (info_command.cpp).
+int runInfo(int argc, char** argv);
+/// `hexcover convert IN OUT`: format conversion, output format from the extension (convert_command.cpp).
+int runConvert(int argc, char** argv);
 /// `hexcover metrics RESULT [--reference INPUT]`: quality metrics as one JSON object
 /// (metrics_command.cpp).
 int runMetrics(int argc, char** argv);
+/// `hexcover remesh IN -o OUT [...]`: the remeshing pipeline on one file (remesh_command.cpp).
+int runRemesh(int argc, char** argv);
 
 }  // namespace hexcover::cli

@@ -25,7 +25,13 @@ int printVersion(int, char**) {
 // One row per subcommand; each is implemented in <name>_command.cpp.
 constexpr Subcommand kSubcommands[] = {
     {"version", "version", printVersion},
+    {"info", "info MESH [--no-repair] [--weld-tolerance T]", runInfo},
+    {"convert", "convert IN OUT [--repair]", runConvert},
     {"metrics", "metrics RESULT [--reference INPUT]", runMetrics},
+    {"remesh",
+     "remesh IN -o OUT [--edge-length h | --vertices K] [--rosy 6|4] [--sizing uniform|curvature] "
+     "[--hex OUT_HEX] [--textured OUT_OBJ] [--metrics METRICS.json] [--quiet]",
+     runRemesh},
 };
 
 int printUsage(std::ostream& out) {

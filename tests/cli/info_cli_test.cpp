@@ -1,0 +1,129 @@
+// The `hexcover info` and `hexcover convert` commands, run as the built binary (HEXCOVER_CLI).
+
+#include "core/mesh/io.h"
+#include "core/mesh/primitives.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace hexcover {
+namespace {
+
+struct CommandResult {
+  int status = -1;
+  std::string out;
+  std::string err;
+};
+
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = std::filesystem::temp_directory_path() /
+           ("hexcover_cli_" + std::string(info->name()) + "_" +
+            std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  static std::string slurp(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+  }
+
+  // Runs `hexcover <arguments>` with stdout and stderr captured in files.
+  CommandResult hexcover(const std::string& arguments) const {
+    const auto out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
+    const std::string command = std::string("'") + HEXCOVER_CLI + "' " + arguments + " >'" + out.string() +
+                                "' 2>'" + err.string() + "'";
+    const int raw = std::system(command.c_str());
+    return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
+  }
+
+  std::filesystem::path dir_;
+};
+
+TEST_F(CliTest, InfoPrintsTheReportOfAGeneratedMeshAsOneJsonObject) {
+  const auto path = dir_ / "torus.obj";
+  writeMesh(toPolygonSoup(makeTorus(3, 1, 24, 12)), path);
+  const CommandResult run = hexcover("info '" + path.string() + "'");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_TRUE(run.err.empty()) << run.err;
+  const nlohmann::json report = nlohmann::json::parse(run.out);
+  ASSERT_TRUE(report.is_object());
+  EXPECT_EQ(report["input"]["vertices"], 24 * 12);
+  EXPECT_EQ(report["input"]["faces"], 2 * 24 * 12);
+  EXPECT_EQ(report["repaired"], true);
+  EXPECT_EQ(report["repairs"]["dropped_faces"], 0);
+  EXPECT_EQ(report["result"]["euler_characteristic"], 0);
+  EXPECT_EQ(report["result"]["component_topology"][0]["genus"], 1);
+  EXPECT_EQ(report["result"]["non_manifold_edges"], 0);
+}
+
+TEST_F(CliTest, InfoReportsRepairsOfADefectiveMesh) {
+  // A unit square stored as two triangles with separate corners and one duplicate.
+  const auto path = dir_ / "square.obj";
+  std::ofstream(path) << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 4 5 6\nf 3 1 2\n";
+  const CommandResult run = hexcover("info '" + path.string() + "'");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json report = nlohmann::json::parse(run.out);
+  EXPECT_EQ(report["input"]["duplicate_vertices"], 2);
+  EXPECT_EQ(report["input"]["duplicate_faces"], 1);
+  EXPECT_EQ(report["repairs"]["welded_vertices"], 2);
+  EXPECT_EQ(report["repairs"]["dropped_duplicate_faces"], 1);
+  EXPECT_EQ(report["result"]["faces"], 2);
+  EXPECT_EQ(report["result"]["boundary_loops"], 1);
+}
+
+TEST_F(CliTest, InfoOnABrokenFileExitsWithStatusOneAndOneLine) {
+  const auto garbage = dir_ / "garbage.obj";
+  std::ofstream(garbage) << "this is not a mesh\n";
+  const CommandResult unknown = hexcover("info '" + garbage.string() + "'");
+  EXPECT_EQ(unknown.status, 1);
+  EXPECT_TRUE(unknown.out.empty());
+  EXPECT_NE(unknown.err.find("unknown mesh format"), std::string::npos) << unknown.err;
+  EXPECT_EQ(std::count(unknown.err.begin(), unknown.err.end(), '\n'), 1) << unknown.err;
+
+  const auto outOfRange = dir_ / "range.off";
+  std::ofstream(outOfRange) << "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n";
+  const CommandResult range = hexcover("info '" + outOfRange.string() + "'");
+  EXPECT_EQ(range.status, 1);
+  EXPECT_NE(range.err.find("line 6"), std::string::npos) << range.err;
+
+  const CommandResult missing = hexcover("info '" + (dir_ / "missing.ply").string() + "'");
+  EXPECT_EQ(missing.status, 1);
+  EXPECT_NE(missing.err.find("cannot open"), std::string::npos) << missing.err;
+
+  EXPECT_EQ(hexcover("info").status, 2);  // usage
+}
+
+TEST_F(CliTest, ConvertWritesTheFormatOfTheOutputExtension) {
+  const auto obj = dir_ / "sphere.obj", ply = dir_ / "sphere.ply", stl = dir_ / "sphere.stl";
+  const PolygonSoup sphere = toPolygonSoup(makeIcosphere(2));
+  writeMesh(sphere, obj);
+  ASSERT_EQ(hexcover("convert '" + obj.string() + "' '" + ply.string() + "'").status, 0);
+  EXPECT_EQ(detectFormat(slurp(ply)), MeshFormat::Ply);
+  const PolygonSoup back = readMesh(ply);
+  EXPECT_EQ(back.positions, sphere.positions);
+  EXPECT_EQ(back.cornerVertices, sphere.cornerVertices);
+  ASSERT_EQ(hexcover("convert '" + ply.string() + "' '" + stl.string() + "'").status, 0);
+  EXPECT_EQ(readMesh(stl).faceCount(), sphere.faceCount());
+  const CommandResult bad = hexcover("convert '" + obj.string() + "' '" + (dir_ / "x.fbx").string() + "'");
+  EXPECT_EQ(bad.status, 1);
+  EXPECT_NE(bad.err.find(".fbx"), std::string::npos) << bad.err;
+}
+
+}  // namespace
+}  // namespace hexcover
