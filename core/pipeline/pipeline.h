@@ -18,6 +18,11 @@ namespace hexcover {
 
 enum class Sizing { Uniform, Curvature };
 
+/// Default d_sing in edge lengths. The paper picks d_sing = 0.1·B for models remeshed at a few
+/// thousand vertices, about 6-10 edge lengths; singularities closer than a few lattice units
+/// force local degeneration (its Fig. 15), and more distant ones cost fewer irregular vertices.
+inline constexpr double kSingularityDistanceInEdges = 6.0;
+
 struct RemeshOptions {
   /// Target edge length in model units. At most one of edgeLength and targetVertices is set;
   /// with neither, the target is a quarter of the input's vertex count.
@@ -27,7 +32,8 @@ struct RemeshOptions {
   /// 6: triangles (Eisenstein lattice); 4: quads (Gauss lattice).
   int rosy = 6;
   Sizing sizing = Sizing::Uniform;
-  /// Singularity clustering distance d_sing; default derived from the edge length (paper 5.2).
+  /// Singularity clustering distance d_sing in model units; by default
+  /// kSingularityDistanceInEdges × the edge length (paper 5.2, see pipeline.cpp).
   std::optional<double> dSing;
   /// Inputs with more faces are refused (ErrorCode::LimitExceeded).
   std::size_t maxFaces = 5'000'000;
@@ -38,6 +44,10 @@ struct RemeshOptions {
 
 struct RemeshResult {
   MeshReport inputReport;      ///< validation and repair of the input
+  double edgeLength = 0.0;           ///< h used for the final parameterization (model units)
+  double singularityDistance = 0.0;  ///< d_sing used by the field's clustering (model units)
+  int sizeIterations = 1;      ///< parameterization + extraction runs to meet targetVertices
+  int flippedParamTriangles = 0;  ///< left in the final parameterization (see Parameterization)
   Remesh remesh;               ///< triangle mesh, hexagonal dual, extraction report
   PolygonSoup textured;        ///< the repaired input with per-corner texture coordinates
   std::vector<Singularity> singularities;

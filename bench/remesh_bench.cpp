@@ -1,0 +1,144 @@
+// bench_remesh: the whole pipeline on every clean/ mesh at two resolutions (K = V/4 and K = V).
+// Prints one machine-readable line per run ("remesh mesh=... K=... key=value ...") and a markdown
+// table: output size, each stage's median time over the runs, peak memory and the metrics.
+// Usage: bench_remesh [--runs N] [--only NAME] [--quarter-only]
+// Never asserts on time.
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/common/error.h"
+#include "core/mesh/io.h"
+#include "core/pipeline/pipeline.h"
+
+namespace {
+
+using namespace hexcover;
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+struct Row {
+  std::string mesh;
+  long long inputVertices = 0, target = 0;
+  RemeshResult last;
+  std::map<std::string, std::vector<double>> stageSeconds;
+  std::vector<double> totalSeconds;
+  double peakMiB = 0.0;
+  std::string error;
+};
+
+const char* const kStages[] = {"repair", "field", "parameterization", "extraction", "metrics"};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int runs = 5;
+  std::string only;
+  bool quarterOnly = false;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--runs") && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
+    else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
+    else if (!std::strcmp(argv[i], "--quarter-only")) quarterOnly = true;
+  }
+  const std::filesystem::path dir = std::filesystem::path(HEXCOVER_SHARED_MESHES) / "clean";
+  if (!std::filesystem::is_directory(dir)) {
+    std::cerr << "bench_remesh: no meshes at " << dir << "\n";
+    return 1;
+  }
+  std::vector<std::filesystem::path> files;
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    if (entry.is_regular_file() && (only.empty() || entry.path().filename().string().find(only) != std::string::npos))
+      files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+
+  std::vector<Row> rows;
+  for (const auto& file : files) {
+    PolygonSoup soup;
+    try {
+      soup = readMesh(file);
+    } catch (const Error& e) {
+      std::cerr << file << ": " << e.what() << "\n";
+      continue;
+    }
+    // V: referenced vertices of the input (unreferenced ones do not count).
+    std::vector<bool> used(soup.vertexCount(), false);
+    for (const auto v : soup.cornerVertices) used[v] = true;
+    const long long vertices = std::count(used.begin(), used.end(), true);
+    std::vector<long long> targets{vertices / 4};
+    if (!quarterOnly) targets.push_back(vertices);
+    for (const long long target : targets) {
+      Row row;
+      row.mesh = file.filename().string();
+      row.inputVertices = vertices;
+      row.target = target;
+      RemeshOptions options;
+      options.targetVertices = target;
+      try {
+        for (int r = 0; r < runs; ++r) {
+          row.last = remesh(soup, options);
+          for (const char* stage : kStages) {
+            double seconds = 0.0;
+            for (const auto& t : row.last.timings)
+              if (t.step == stage) seconds += t.seconds;
+            row.stageSeconds[stage].push_back(seconds);
+          }
+          row.totalSeconds.push_back(totalSeconds(row.last.timings));
+          row.peakMiB = std::max(row.peakMiB, row.last.peakMemoryMiB);
+        }
+      } catch (const Error& e) {
+        row.error = e.what();
+      }
+      const QualityReport& m = row.last.metrics;
+      std::ostringstream line;
+      line << "remesh mesh=" << row.mesh << " K=" << target;
+      if (!row.error.empty()) {
+        line << " error=\"" << row.error << "\"";
+      } else {
+        line << " V=" << m.vertices << " F=" << m.faces << " total_s=" << median(row.totalSeconds);
+        for (const char* stage : kStages) line << " " << stage << "_s=" << median(row.stageSeconds[stage]);
+        line << " peak_mib=" << row.peakMiB << " hausdorff_pct="
+             << (m.distance ? m.distance->hausdorffPct : -1.0) << " angle_min=" << m.angleMin
+             << " angle_max=" << m.angleMax << " angle_sd=" << m.angleSd
+             << " irregular_interior=" << m.irregularInterior
+             << " singularities=" << row.last.singularities.size()
+             << " topology_ok=" << (m.topologyMatchesReference.value_or(false) ? 1 : 0);
+      }
+      std::cout << line.str() << std::endl;
+      rows.push_back(std::move(row));
+    }
+  }
+
+  std::printf("\n| mesh | K | V out | F out | repair s | field s | param s | extract s | metrics s | "
+              "total s | peak MiB | Hausdorff %% | min° | max° | SD° | irregular (%%) | sing. | topology |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Row& row : rows) {
+    if (!row.error.empty()) {
+      std::printf("| %s | %lld | error: %s |\n", row.mesh.c_str(), row.target, row.error.c_str());
+      continue;
+    }
+    const QualityReport& m = row.last.metrics;
+    std::printf("| %s | %lld | %d | %d | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.0f | %.3f | %.1f | "
+                "%.1f | %.2f | %d (%.2f) | %zu | %s |\n",
+                row.mesh.c_str(), row.target, m.vertices, m.faces, median(row.stageSeconds.at("repair")),
+                median(row.stageSeconds.at("field")), median(row.stageSeconds.at("parameterization")),
+                median(row.stageSeconds.at("extraction")), median(row.stageSeconds.at("metrics")),
+                median(row.totalSeconds), row.peakMiB, m.distance ? m.distance->hausdorffPct : -1.0,
+                m.angleMin, m.angleMax, m.angleSd, m.irregularInterior,
+                m.vertices ? 100.0 * m.irregularInterior / m.vertices : 0.0,
+                row.last.singularities.size(),
+                m.topologyMatchesReference.value_or(false) ? "same" : "differs");
+  }
+  std::printf("\nmedians of %d runs; times in seconds on this machine.\n", runs);
+  return 0;
+}

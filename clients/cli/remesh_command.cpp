@@ -1,0 +1,129 @@
+// `hexcover remesh IN -o OUT [--edge-length h | --vertices K] [--rosy 6|4]
+//  [--sizing uniform|curvature] [--hex OUT_HEX] [--textured OUT_OBJ] [--metrics METRICS.json]
+//  [--quiet]`: the whole pipeline (core/pipeline) on one file.
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <string>
+
+#include "api/metrics_json.h"
+#include "clients/cli/arguments.h"
+#include "clients/cli/commands.h"
+#include "core/mesh/io.h"
+#include "core/pipeline/pipeline.h"
+
+namespace hexcover::cli {
+namespace {
+
+RemeshOptions parseOptions(const Arguments& args) {
+  RemeshOptions options;
+  if (args.has("--edge-length") && args.has("--vertices"))
+    throw UsageError("give --edge-length or --vertices, not both");
+  options.edgeLength = args.number("--edge-length");
+  options.targetVertices = args.integer("--vertices");
+  if (const auto rosy = args.integer("--rosy")) {
+    if (*rosy != 6 && *rosy != 4) throw UsageError("--rosy must be 6 or 4");
+    options.rosy = static_cast<int>(*rosy);
+  }
+  if (const auto sizing = args.value("--sizing")) {
+    if (*sizing == "uniform")
+      options.sizing = Sizing::Uniform;
+    else if (*sizing == "curvature")
+      options.sizing = Sizing::Curvature;
+    else
+      throw UsageError("--sizing must be uniform or curvature, got '" + *sizing + "'");
+  }
+  return options;
+}
+
+/// A one-line progress bar on stderr, redrawn in place: "field        [#####     ] 50%".
+void drawProgress(std::string_view stage, double fraction) {
+  constexpr int kWidth = 30;
+  const int filled = static_cast<int>(std::clamp(fraction, 0.0, 1.0) * kWidth + 0.5);
+  std::fprintf(stderr, "\r%-16.*s [%s%s] %3d%%", static_cast<int>(stage.size()), stage.data(),
+               std::string(filled, '#').c_str(), std::string(kWidth - filled, ' ').c_str(),
+               static_cast<int>(fraction * 100.0 + 0.5));
+  std::fflush(stderr);
+}
+
+nlohmann::json metricsDocument(const RemeshResult& result) {
+  nlohmann::json json = toJson(result.metrics);
+  nlohmann::json singularities = nlohmann::json::array();
+  for (const auto& s : result.singularities)
+    singularities.push_back({{"vertex", s.vertex},
+                             {"index", s.index},
+                             {"position", {s.position.x(), s.position.y(), s.position.z()}}});
+  json["singularities"] = std::move(singularities);
+  nlohmann::json timings = nlohmann::json::object();
+  for (const auto& t : result.timings) timings[t.step] = t.seconds;
+  timings["total"] = totalSeconds(result.timings);
+  json["timings"] = std::move(timings);
+  json["peak_memory_mb"] = result.peakMemoryMiB;
+  json["edge_length"] = result.edgeLength;
+  json["singularity_distance"] = result.singularityDistance;
+  const ExtractionReport& r = result.remesh.report;
+  json["extraction"] = {{"lattice_points", r.latticePoints},
+                        {"lattice_triangles", r.latticeTriangles},
+                        {"boundary_samples", r.boundarySamples},
+                        {"strip_triangles", r.stripTriangles},
+                        {"flipped_param_triangles", r.flippedParamTriangles},
+                        {"uncovered_triangles", r.uncoveredTriangles},
+                        {"overlapping_triangles", r.overlappingTriangles},
+                        {"holes_filled", r.holesFilled},
+                        {"unmatched_boundary_loops", r.unmatchedBoundaryLoops},
+                        {"components_kept", r.componentsKept},
+                        {"non_manifold_faces_dropped", r.nonManifoldFacesDropped}};
+  return json;
+}
+
+}  // namespace
+
+int runRemesh(int argc, char** argv) {
+  const Arguments args(argc, argv, 2,
+                       {"-o", "--edge-length", "--vertices", "--rosy", "--sizing", "--hex",
+                        "--textured", "--metrics"},
+                       {"--quiet"});
+  const std::string& inputPath = args.positional(0, "IN");
+  args.expectPositionalCount(1);
+  const auto outputPath = args.value("-o");
+  if (!outputPath) throw UsageError("missing -o OUT");
+  const RemeshOptions options = parseOptions(args);
+  const bool quiet = args.has("--quiet");
+  // Output formats are checked before the work starts.
+  formatFromExtension(*outputPath);
+  if (const auto hex = args.value("--hex")) formatFromExtension(*hex);
+  if (const auto textured = args.value("--textured")) {
+    if (formatFromExtension(*textured) != MeshFormat::Obj)
+      throw UsageError("--textured needs an .obj file (the only format with texture coordinates)");
+  }
+
+  RunContext context;
+  const bool showProgress = !quiet && isatty(STDERR_FILENO);
+  if (showProgress) context.progress = drawProgress;
+  const RemeshResult result = remesh(readMesh(inputPath), options, context);
+  if (showProgress) std::fprintf(stderr, "\r%60s\r", "");
+
+  writeMesh(toPolygonSoup(result.remesh.triangles), *outputPath);
+  if (const auto hex = args.value("--hex")) writeMesh(result.remesh.hexDual, *hex);
+  if (const auto textured = args.value("--textured")) writeMesh(result.textured, *textured);
+  if (const auto metricsPath = args.value("--metrics")) {
+    std::ofstream out(*metricsPath);
+    out << metricsDocument(result).dump(2) << "\n";
+    if (!out) throw Error(ErrorCode::Io, "cannot write " + *metricsPath);
+  }
+  if (!quiet) {
+    const QualityReport& m = result.metrics;
+    std::cerr << "remeshed " << inputPath << " -> " << *outputPath << ": " << m.vertices
+              << " vertices, " << m.faces << " faces, " << result.singularities.size()
+              << " singularities, angles " << m.angleMin << "-" << m.angleMax << " (sd "
+              << m.angleSd << "), irregular interior " << m.irregularInterior << ", Hausdorff "
+              << (m.distance ? m.distance->hausdorffPct : 0.0) << "%, "
+              << totalSeconds(result.timings) << " s\n";
+  }
+  return 0;
+}
+
+}  // namespace hexcover::cli

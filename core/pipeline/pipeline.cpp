@@ -1,0 +1,166 @@
+#include "core/pipeline/pipeline.h"
+
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "core/common/memory.h"
+#include "core/geometry/curvature.h"
+#include "core/mesh/repair.h"
+#include "core/param/hexcover.h"
+
+namespace hexcover {
+
+void RemeshOptions::validate() const {
+  const auto fail = [](const std::string& message) { throw Error(ErrorCode::InvalidOption, message); };
+  if (edgeLength && targetVertices)
+    fail("give either an edge length or a target vertex count, not both");
+  if (edgeLength && !(std::isfinite(*edgeLength) && *edgeLength > 0.0))
+    fail("edge length must be a positive finite number, got " + std::to_string(*edgeLength));
+  if (targetVertices && *targetVertices < 4)
+    fail("target vertex count must be at least 4, got " + std::to_string(*targetVertices));
+  if (targetVertices && *targetVertices > 100'000'000)
+    fail("target vertex count must be at most 100000000, got " + std::to_string(*targetVertices));
+  if (rosy == 4)
+    fail("rosy 4 (quad remeshing) is not available yet: extraction builds triangles from the "
+         "Eisenstein lattice (rosy 6)");
+  if (rosy != 6) fail("rosy must be 6 (triangles), got " + std::to_string(rosy));
+  if (dSing && !(std::isfinite(*dSing) && *dSing >= 0.0))
+    fail("singularity distance d_sing must be a finite number ≥ 0, got " + std::to_string(*dSing));
+  if (maxFaces == 0) fail("the face limit must be positive");
+}
+
+namespace {
+
+/// Vertices that belong to a face.
+long long usedVertexCount(const TriMesh& mesh) {
+  long long count = 0;
+  for (const auto v : mesh.vertices()) count += mesh.is_isolated(v) ? 0 : 1;
+  return count;
+}
+
+/// The repaired input with texture coordinates: the plane position a·e1 + b·e2 of each corner's
+/// lattice coordinates, one texture unit per lattice unit (seamless for hexagonal patterns whose
+/// tile has the lattice's periods, paper section 5.1).
+PolygonSoup texturedInput(const TriMesh& mesh, const Parameterization& param) {
+  PolygonSoup soup = toPolygonSoup(mesh);
+  soup.cornerTexcoords.reserve(soup.cornerVertices.size());
+  for (const auto f : mesh.faces())
+    for (const auto h : mesh.fh_range(f)) {
+      const Eigen::Vector2d& z = param.cornerCoords[h.idx()];
+      soup.cornerTexcoords.emplace_back(z.x() + 0.5 * z.y(), 0.5 * std::sqrt(3.0) * z.y());
+    }
+  return soup;
+}
+
+/// Adds `seconds` to the timing named `step`, or appends it.
+void addTiming(Timings& timings, const std::string& step, double seconds) {
+  for (auto& t : timings)
+    if (t.step == step) {
+      t.seconds += seconds;
+      return;
+    }
+  timings.push_back({step, seconds});
+}
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
+                    const RunContext& context) {
+  options.validate();
+  RemeshResult result;
+  using Clock = std::chrono::steady_clock;
+
+  // 1. Repair.
+  context.report("repair", 0.0);
+  RepairedMesh repaired;
+  {
+    ScopedTimer timer(result.timings, "repair");
+    RepairOptions repairOptions;
+    repairOptions.maxFaces = options.maxFaces;
+    repaired = repairMesh(input, repairOptions);
+  }
+  const TriMesh& mesh = repaired.mesh;
+  result.inputReport = repaired.report;
+  context.report("repair", 1.0);
+  context.throwIfCanceled();
+
+  // Sizing and the edge length h (a target of a quarter of the input's vertices by default).
+  std::vector<double> sizing;
+  if (options.sizing == Sizing::Curvature) {
+    ScopedTimer timer(result.timings, "sizing");
+    const Curvature curvature = computeCurvature(mesh);
+    std::vector<double> absMax(curvature.kappaMax.size());
+    for (std::size_t v = 0; v < absMax.size(); ++v) absMax[v] = std::abs(curvature.kappaMax[v]);
+    sizing = curvatureSizing(absMax);
+  }
+  const long long target =
+      options.targetVertices.value_or(std::max<long long>(4, usedVertexCount(mesh) / 4));
+  double h = options.edgeLength ? *options.edgeLength
+                                : edgeLengthForVertexCount(mesh, static_cast<int>(target), 6, sizing);
+  result.singularityDistance = options.dSing.value_or(kSingularityDistanceInEdges * h);
+
+  // 2. Field.
+  RosyField field;
+  {
+    ScopedTimer timer(result.timings, "field");
+    FieldOptions fieldOptions;
+    fieldOptions.n = options.rosy;
+    fieldOptions.singularityDistance = result.singularityDistance;
+    if (const std::string problem = fieldOptions.validate(); !problem.empty())
+      throw Error(ErrorCode::InvalidOption, problem);
+    // d_sing = 0 means "no clustering" to the caller; the field reads 0 as "use the default".
+    fieldOptions.clusterSingularities = result.singularityDistance > 0.0;
+    field = computeRosyField(mesh, fieldOptions, context);
+  }
+  result.singularities = field.singularities;
+  context.throwIfCanceled();
+
+  // 3 and 4. Parameterization and extraction; with a target vertex count, h is rescaled by
+  // sqrt(V / K) until the remesh is within 8% of K (the promise is 10%), at most 4 runs.
+  constexpr int kMaxRuns = 4;
+  constexpr double kTolerance = 0.08;
+  Parameterization param;
+  for (int run = 1;; ++run) {
+    auto start = Clock::now();
+    ParamOptions paramOptions;
+    paramOptions.edgeLength = h;
+    paramOptions.vertexSizing = sizing;
+    param = computeParameterization(mesh, field, paramOptions, context);
+    addTiming(result.timings, "parameterization", secondsSince(start));
+    context.throwIfCanceled();
+
+    start = Clock::now();
+    result.remesh = extractRemesh(mesh, param, {}, context);
+    addTiming(result.timings, "extraction", secondsSince(start));
+    result.edgeLength = h;
+    result.sizeIterations = run;
+    const double vertices = static_cast<double>(result.remesh.triangles.n_vertices());
+    if (!options.targetVertices || run == kMaxRuns || vertices <= 0.0 ||
+        std::abs(vertices - static_cast<double>(target)) <= kTolerance * static_cast<double>(target))
+      break;
+    h *= std::sqrt(vertices / static_cast<double>(target));
+  }
+  result.flippedParamTriangles = param.flippedTriangles;
+  context.throwIfCanceled();
+
+  // Textured input and metrics.
+  {
+    ScopedTimer timer(result.timings, "texture");
+    result.textured = texturedInput(mesh, param);
+  }
+  context.report("metrics", 0.0);
+  {
+    ScopedTimer timer(result.timings, "metrics");
+    result.metrics = measureQuality(result.remesh.triangles, &mesh);
+  }
+  context.report("metrics", 1.0);
+  result.peakMemoryMiB = peakMemoryMiB();
+  return result;
+}
+
+}  // namespace hexcover
