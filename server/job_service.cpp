@@ -56,7 +56,7 @@ JobService::JobService(JobServiceOptions options, JobStore& store, const Engine&
       queue_(options_.queueLimit) {}
 
 JobService::~JobService() {
-  if (!workers_.empty()) drain(std::chrono::seconds(0));
+  if (!workers_.empty() && !draining_) drain(std::chrono::seconds(0));
   stopThreads();
 }
 
