@@ -49,7 +49,8 @@ PolygonSoup readMesh(const std::filesystem::path& path, const ReadOptions& optio
 /// Writes `soup` in the format given by the extension of `path` (formatFromExtension):
 /// .obj (ASCII; one `vt` per corner when soup.cornerTexcoords is non-empty), .off (ASCII),
 /// .ply (binary little endian, double coordinates, int indices), .stl (binary, float
-/// coordinates; polygons fan-triangulated). Streams to the file; throws Error(Io) on failure.
+/// coordinates; polygons fan-triangulated). Streams to the file. Throws Error(Io) when the file
+/// cannot be written, Error(InvalidMesh) for an inconsistent soup or an out-of-range index.
 void writeMesh(const PolygonSoup& soup, const std::filesystem::path& path);
 
 }  // namespace hexcover

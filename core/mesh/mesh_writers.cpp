@@ -3,6 +3,7 @@
 
 #include "core/common/error.h"
 #include "core/mesh/io.h"
+#include "core/mesh/soup_connectivity.h"
 
 #include <array>
 #include <bit>
@@ -182,8 +183,7 @@ void writeStl(const PolygonSoup& soup, OutputFile& out) {
 
 void writeMesh(const PolygonSoup& soup, const std::filesystem::path& path) {
   const MeshFormat format = formatFromExtension(path);
-  if (!soup.cornerTexcoords.empty() && soup.cornerTexcoords.size() != soup.cornerVertices.size())
-    throw Error(ErrorCode::InvalidMesh, "cornerTexcoords must be empty or have one entry per corner");
+  detail::checkSoupStructure(soup, /*checkIndices=*/true);
   OutputFile out(path);
   switch (format) {
     case MeshFormat::Obj: writeObj(soup, out); break;

@@ -35,8 +35,7 @@ void validateOptions(const RepairOptions& options) {
 
 // Refuses what no repair can fix, naming the first offending element.
 void refuseUnrepairable(const PolygonSoup& soup, const RepairOptions& options) {
-  if (soup.faceStarts.empty() || soup.faceStarts.back() != soup.cornerVertices.size())
-    throw Error(ErrorCode::InvalidMesh, "malformed polygon soup: faceStarts does not end at the corner count");
+  detail::checkSoupStructure(soup, /*checkIndices=*/false);
   if (soup.faceCount() == 0)
     throw Error(ErrorCode::InvalidMesh, "empty mesh: no faces (" + std::to_string(soup.vertexCount()) + " vertices)");
   std::size_t triangles = 0;
@@ -44,12 +43,7 @@ void refuseUnrepairable(const PolygonSoup& soup, const RepairOptions& options) {
   if (triangles > options.maxFaces)
     throw Error(ErrorCode::LimitExceeded, "the mesh has " + std::to_string(triangles) +
                                               " triangles, over the limit of " + std::to_string(options.maxFaces));
-  for (std::size_t f = 0; f < soup.faceCount(); ++f)
-    for (std::size_t c = soup.faceStarts[f]; c < soup.faceStarts[f + 1]; ++c)
-      if (soup.cornerVertices[c] >= soup.vertexCount())
-        throw Error(ErrorCode::InvalidMesh, "face " + std::to_string(f) + " refers to vertex " +
-                                                std::to_string(soup.cornerVertices[c]) + ", but the mesh has only " +
-                                                std::to_string(soup.vertexCount()) + " vertices");
+  detail::checkSoupStructure(soup, /*checkIndices=*/true);
   for (std::size_t v = 0; v < soup.vertexCount(); ++v)
     if (!soup.positions[v].allFinite())
       throw Error(ErrorCode::InvalidMesh, "vertex " + std::to_string(v) + " has a NaN or infinite coordinate " +
@@ -101,10 +95,14 @@ void triangulateFace(const PolygonSoup& soup, std::size_t f, std::vector<Triangl
 // Representative of every vertex after welding referenced vertices closer than `tolerance`
 // (exactly coincident ones when it is 0): the lowest index of each group of vertices linked by
 // such distances. Unreferenced vertices map to themselves.
+// `origin` is the lower corner of the bounding box and `diagonal` its length.
 std::vector<std::uint32_t> weldVertices(const std::vector<Eigen::Vector3d>& positions,
-                                        const std::vector<bool>& referenced, double tolerance) {
+                                        const std::vector<bool>& referenced, const Eigen::Vector3d& origin,
+                                        double diagonal, double tolerance) {
   detail::UnionFind groups(positions.size());
-  if (!(tolerance > 0.0)) {
+  // Below ~1e-15 of the diagonal, distances are at the level of rounding: weld exact copies only
+  // (this also keeps grid cell indices far from integer overflow).
+  if (!(tolerance > 1e-15 * diagonal)) {
     std::vector<std::uint32_t> order;
     for (std::uint32_t v = 0; v < positions.size(); ++v)
       if (referenced[v]) order.push_back(v);
@@ -132,7 +130,7 @@ std::vector<std::uint32_t> weldVertices(const std::vector<Eigen::Vector3d>& posi
     const double toleranceSquared = tolerance * tolerance;
     for (std::uint32_t v = 0; v < positions.size(); ++v) {
       if (!referenced[v]) continue;
-      const Eigen::Vector3d scaled = positions[v] / cellSize;
+      const Eigen::Vector3d scaled = (positions[v] - origin) / cellSize;
       const Cell cell{static_cast<std::int64_t>(std::floor(scaled.x())), static_cast<std::int64_t>(std::floor(scaled.y())),
                       static_cast<std::int64_t>(std::floor(scaled.z()))};
       Cell side{};
@@ -191,11 +189,12 @@ std::size_t filterTriangles(std::vector<Triangle>& tris, std::vector<std::uint32
 // oriented pairs of them only (so each pair ends up on its own copy of the edge). Appends copies to `positions` and records the
 // input vertex of each in `source`. Repeats while edges with more than two triangles remain
 // (a few rounds at most; anything left is refused by add_face and counted).
-void splitNonManifold(std::vector<Triangle>& tris, std::vector<Eigen::Vector3d>& positions,
-                      std::vector<std::uint32_t>& source, RepairCounts& counts) {
+// Returns the edge table of the final triangles.
+EdgeTable splitNonManifold(std::vector<Triangle>& tris, std::vector<Eigen::Vector3d>& positions,
+                           std::vector<std::uint32_t>& source, RepairCounts& counts) {
   constexpr int kMaxRounds = 4;
   for (int round = 0; round < kMaxRounds; ++round) {
-    const EdgeTable edges = detail::buildEdgeTable(tris);
+    EdgeTable edges = detail::buildEdgeTable(tris);
     std::vector<std::array<std::uint32_t, 2>> pairs;
     pairs.reserve(edges.edgeCount());
     std::vector<bool> onSplitEdge(positions.size(), false);
@@ -238,16 +237,17 @@ void splitNonManifold(std::vector<Triangle>& tris, std::vector<Eigen::Vector3d>&
     counts.splitNonManifoldEdges += splitEdges;
     counts.addedVertices += added;
     for (std::size_t v = 0; v < split.size(); ++v) counts.splitNonManifoldVertices += split[v] && !onSplitEdge[v];
-    if (splitEdges == 0) return;  // one round settles non-manifold vertices
+    if (splitEdges == 0 && added == 0) return edges;  // nothing changed: the table still holds
+    if (splitEdges == 0) break;  // one round settles non-manifold vertices
   }
+  return detail::buildEdgeTable(tris);
 }
 
 // Orients every edge-connected patch consistently and counts the flips: closed patches outward
 // (positive signed volume) when `outward`, other patches toward the majority of their triangles.
 // Refuses non-orientable patches.
-void orientPatches(std::vector<Triangle>& tris, const std::vector<std::uint32_t>& origin,
+void orientPatches(std::vector<Triangle>& tris, const EdgeTable& edges, const std::vector<std::uint32_t>& origin,
                    const std::vector<Eigen::Vector3d>& positions, bool outward, RepairCounts& counts) {
-  const EdgeTable edges = detail::buildEdgeTable(tris);
   detail::Orientation orientation = detail::propagateOrientation(tris, edges);
   const std::size_t patchCount = orientation.conflict.size();
   std::vector<std::size_t> size(patchCount, 0), reversed(patchCount, 0);
@@ -318,7 +318,7 @@ RepairedMesh repairMesh(const PolygonSoup& soup, const RepairOptions& options) {
     }
   const double diagonal = tris.empty() ? 0.0 : (hi - lo).norm();
   const std::vector<std::uint32_t> representative =
-      weldVertices(soup.positions, referenced, options.weldTolerance * diagonal);
+      weldVertices(soup.positions, referenced, lo, diagonal, options.weldTolerance * diagonal);
   for (std::size_t v = 0; v < soup.vertexCount(); ++v) counts.weldedVertices += representative[v] != v;
   for (auto& t : tris)
     for (auto& v : t) v = representative[v];
@@ -346,8 +346,8 @@ RepairedMesh repairMesh(const PolygonSoup& soup, const RepairOptions& options) {
   // Split non-manifold edges and vertices, then orient.
   std::vector<std::uint32_t> source(soup.vertexCount());
   std::iota(source.begin(), source.end(), 0u);
-  splitNonManifold(tris, positions, source, counts);
-  orientPatches(tris, origin, positions, /*outward=*/options.repair, counts);
+  const EdgeTable edges = splitNonManifold(tris, positions, source, counts);
+  orientPatches(tris, edges, origin, positions, /*outward=*/options.repair, counts);
 
   // Drop unreferenced vertices (input order kept, split copies after) and build the mesh.
   std::vector<std::uint32_t> newIndex(positions.size(), kNone);

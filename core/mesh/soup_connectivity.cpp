@@ -1,9 +1,29 @@
 #include "core/mesh/soup_connectivity.h"
 
+#include "core/common/error.h"
+
 #include <algorithm>
+#include <functional>
+#include <string>
 #include <utility>
 
 namespace hexcover::detail {
+
+void checkSoupStructure(const PolygonSoup& soup, bool checkIndices) {
+  const auto& starts = soup.faceStarts;
+  if (starts.empty() || starts.front() != 0 || starts.back() != soup.cornerVertices.size() ||
+      std::adjacent_find(starts.begin(), starts.end(), std::greater<>()) != starts.end())
+    throw Error(ErrorCode::InvalidMesh, "malformed polygon soup: faceStarts must rise from 0 to the corner count");
+  if (!soup.cornerTexcoords.empty() && soup.cornerTexcoords.size() != soup.cornerVertices.size())
+    throw Error(ErrorCode::InvalidMesh, "malformed polygon soup: cornerTexcoords must be empty or one per corner");
+  if (!checkIndices) return;
+  for (std::size_t f = 0; f < soup.faceCount(); ++f)
+    for (std::size_t c = starts[f]; c < starts[f + 1]; ++c)
+      if (soup.cornerVertices[c] >= soup.vertexCount())
+        throw Error(ErrorCode::InvalidMesh, "face " + std::to_string(f) + " refers to vertex " +
+                                                std::to_string(soup.cornerVertices[c]) + ", but the mesh has only " +
+                                                std::to_string(soup.vertexCount()) + " vertices");
+}
 
 EdgeTable buildEdgeTable(const std::vector<Triangle>& triangles) {
   // Bucket the half-edges by their lower vertex (counting sort), then order each small bucket by

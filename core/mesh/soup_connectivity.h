@@ -11,6 +11,11 @@
 
 namespace hexcover::detail {
 
+/// Throws Error(InvalidMesh) unless faceStarts starts at 0, never decreases and ends at the corner
+/// count, and cornerTexcoords is empty or has one entry per corner. With `checkIndices`, also
+/// unless every corner refers to an existing vertex (naming the first face that does not).
+void checkSoupStructure(const PolygonSoup& soup, bool checkIndices);
+
 /// Three vertex indices, counter-clockwise.
 using Triangle = std::array<std::uint32_t, 3>;
 

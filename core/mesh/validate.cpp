@@ -22,9 +22,13 @@ bool isDegenerateFace(const PolygonSoup& soup, std::size_t f) {
   const std::span<const std::uint32_t> corners(soup.cornerVertices.data() + soup.faceStarts[f], n);
   for (const auto v : corners)
     if (v >= soup.vertexCount()) return true;
-  std::vector<std::uint32_t> sorted(corners.begin(), corners.end());
-  std::sort(sorted.begin(), sorted.end());
-  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return true;
+  if (n == 3) {
+    if (corners[0] == corners[1] || corners[1] == corners[2] || corners[0] == corners[2]) return true;
+  } else {
+    std::vector<std::uint32_t> sorted(corners.begin(), corners.end());
+    std::sort(sorted.begin(), sorted.end());
+    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return true;
+  }
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
   double longest = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -74,24 +78,20 @@ std::size_t countDuplicateFaces(const PolygonSoup& soup) {
 
 // Finite vertices at exactly the position of another vertex (all but the first of each group).
 std::size_t countDuplicateVertices(const std::vector<Eigen::Vector3d>& positions) {
-  std::vector<std::uint32_t> order;
-  order.reserve(positions.size());
-  for (std::uint32_t v = 0; v < positions.size(); ++v)
-    if (positions[v].allFinite()) order.push_back(v);
-  const auto key = [&](std::uint32_t v) {
-    const auto& p = positions[v];
-    return std::array<double, 3>{p.x(), p.y(), p.z()};
-  };
-  std::sort(order.begin(), order.end(), [&](auto a, auto b) { return key(a) < key(b); });
+  std::vector<std::array<double, 3>> keys;
+  keys.reserve(positions.size());
+  for (const auto& p : positions)
+    if (p.allFinite()) keys.push_back({p.x(), p.y(), p.z()});
+  std::sort(keys.begin(), keys.end());
   std::size_t duplicates = 0;
-  for (std::size_t i = 1; i < order.size(); ++i)
-    if (key(order[i]) == key(order[i - 1])) ++duplicates;
+  for (std::size_t i = 1; i < keys.size(); ++i) duplicates += keys[i] == keys[i - 1];
   return duplicates;
 }
 
 }  // namespace
 
 MeshStatistics measureMesh(const PolygonSoup& soup) {
+  detail::checkSoupStructure(soup, /*checkIndices=*/false);
   MeshStatistics stats;
   stats.vertices = soup.vertexCount();
   stats.faces = soup.faceCount();

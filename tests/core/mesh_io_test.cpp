@@ -405,6 +405,10 @@ TEST(MeshWriters, UnknownExtensionAndUnwritablePathAreErrors) {
   expectError([&] { writeMesh(polygonSample(), dir / "mesh.xyz"); }, ErrorCode::UnknownFormat);
   expectError([&] { writeMesh(polygonSample(), dir / "no/such/folder/mesh.obj"); }, ErrorCode::Io);
   expectError([&] { readMesh(dir / "missing.obj"); }, ErrorCode::Io);
+  PolygonSoup outOfRange = polygonSample();
+  outOfRange.cornerVertices[2] = 42;
+  const Error e = expectError([&] { writeMesh(outOfRange, dir / "bad.stl"); }, ErrorCode::InvalidMesh);
+  EXPECT_NE(std::string(e.what()).find("vertex 42"), std::string::npos) << e.what();
 }
 
 }  // namespace

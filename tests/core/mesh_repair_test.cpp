@@ -150,7 +150,12 @@ TEST(MeshRepair, WeldsCornersThatTheFileStoredSeparately) {
   EXPECT_EQ(report.result.eulerCharacteristic, 2);
   expectManifoldAndOriented(report.result);
 
-  // Beyond the tolerance nothing is welded.
+  // Far from the origin (cell indices relative to the bounding box) the same welds happen.
+  PolygonSoup far = separate;
+  for (auto& p : far.positions) p += Eigen::Vector3d(1e9, -3e9, 2e9);
+  EXPECT_EQ(repairMesh(far).report.repairs.weldedVertices, separate.vertexCount() - shared.vertexCount());
+
+  // With a zero tolerance only exact copies are welded.
   RepairOptions exact;
   exact.weldTolerance = 0.0;
   EXPECT_EQ(repairMesh(separate, exact).report.repairs.weldedVertices, 0u);
@@ -286,6 +291,11 @@ TEST(MeshRepair, RefusesWhatCannotBeRepaired) {
   allDegenerate.positions = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
   allDegenerate.addFace(std::array<int, 3>{0, 1, 2});
   EXPECT_TRUE(contains(errorMessage([&] { repairMesh(allDegenerate); }, ErrorCode::InvalidMesh), "degenerate"));
+
+  PolygonSoup inconsistent = toPolygonSoup(makeIcosphere(0));
+  inconsistent.faceStarts.back() += 2;
+  EXPECT_TRUE(contains(errorMessage([&] { validateMesh(inconsistent); }, ErrorCode::InvalidMesh), "faceStarts"));
+  errorMessage([&] { repairMesh(inconsistent); }, ErrorCode::InvalidMesh);
 
   RepairOptions bad;
   bad.weldTolerance = -1.0;
