@@ -1,12 +1,172 @@
 #include "core/field/rosy_field.h"
 
 #include <cmath>
+#include <sstream>
 #include <string>
 
 #include "core/common/error.h"
+#include "core/field/clustering.h"
+#include "core/field/connection.h"
 #include "core/field/singularities.h"
+#include "core/field/smooth_solve.h"
 
 namespace hexcover {
+namespace {
+
+using field::Complex;
+
+/// Most clustering rounds (collapse, re-solve) per run; later rounds only touch leftovers.
+constexpr int kClusteringRounds = 6;
+
+template <typename Step>
+auto timed(Timings& timings, const char* name, Step&& step) {
+  const ScopedTimer timer(timings, name);
+  return step();
+}
+
+/// Representative angles θ_f = arg(u_f) / N of a power-representation field.
+std::vector<double> anglesOf(const std::vector<Complex>& u, int n) {
+  std::vector<double> angles(u.size());
+  for (std::size_t f = 0; f < u.size(); ++f) angles[f] = std::arg(u[f]) / n;
+  return angles;
+}
+
+/// Soft directional constraints of section 3.2: at faces with at least two strong vertices
+/// (ρ > t_ρ) whose averaged curvature tensor is cylindrical, the maximum direction θ where φ > 0
+/// and the minimum direction θ + π/2 where φ < 0 (for N = 4 the power representation holds both).
+void addCurvatureConstraints(const TriMesh& mesh, const field::FieldGeometry& geometry,
+                             const Curvature& curvature, const FieldOptions& options,
+                             field::SmoothSolveInput& input) {
+  for (const auto fh : mesh.faces()) {
+    const int f = fh.idx();
+    Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
+    int strong = 0;
+    for (const auto vh : fh.vertices()) {
+      tensor += curvature.tensor(vh.idx()) / 3.0;
+      if (curvature.strong[vh.idx()]) ++strong;
+    }
+    if (strong < 2) continue;
+    const Eigen::Vector3d& x = geometry.frames.xAxis[f];
+    const Eigen::Vector3d& y = geometry.frames.yAxis[f];
+    const double a = x.dot(tensor * x), b = x.dot(tensor * y), c = y.dot(tensor * y);
+    const double mean = 0.5 * (a + c), radius = std::hypot(0.5 * (a - c), b);
+    const double kappaMax = mean + radius, kappaMin = mean - radius;
+    const double rho = std::hypot(kappaMax, kappaMin);
+    const double phi = std::atan2(kappaMax + kappaMin, kappaMax - kappaMin);
+    if (classifyCurvature(rho, phi, curvature.planarRho) != CurvatureClass::Cylindrical) continue;
+    const double theta = 0.5 * std::atan2(2.0 * b, a - c);
+    const double direction = phi > 0.0 ? theta : theta + 0.5 * M_PI;
+    input.softWeight[f] = options.constraintWeight;
+    input.softTarget[f] = std::polar(1.0, options.n * direction);
+  }
+}
+
+/// Faces with a boundary edge: one direction along the boundary (hard constraint). The tangent of
+/// a boundary edge is the chord over `reach` boundary vertices on either side, so that the
+/// zigzags of a scanned boundary do not each become a boundary singularity; a face with several
+/// boundary edges follows its longest one.
+void fixBoundaryFaces(const TriMesh& mesh, const field::FieldGeometry& geometry, int n, int reach,
+                      field::SmoothSolveInput& input) {
+  std::vector<double> longest(mesh.n_faces(), -1.0);
+  std::vector<bool> visited(mesh.n_halfedges(), false);
+  for (const auto start : mesh.halfedges()) {
+    if (!start.is_boundary() || visited[start.idx()]) continue;
+    // The loop's face-side halfedges in order (each runs u→w with the surface on its left).
+    std::vector<TriMesh::HalfedgeHandle> loop;
+    for (auto h = start; !visited[h.idx()]; h = h.next()) {
+      visited[h.idx()] = true;
+      loop.push_back(h.opp());
+    }
+    std::reverse(loop.begin(), loop.end());
+    const int count = static_cast<int>(loop.size());
+    for (int k = 0; k < count; ++k) {
+      const auto h = loop[k];
+      const int f = mesh.face_handle(h).idx();
+      const double length = mesh.calc_edge_length(h);
+      if (length <= longest[f]) continue;
+      longest[f] = length;
+      const auto from = mesh.from_vertex_handle(loop[((k - reach) % count + count) % count]);
+      const auto to = mesh.to_vertex_handle(loop[(k + reach) % count]);
+      const Eigen::Vector3d tangent = toEigen(mesh.point(to) - mesh.point(from));
+      input.free[f] = false;
+      input.value[f] = std::polar(1.0, n * geometry.frames.angleOf(f, tangent));
+    }
+  }
+}
+
+/// One re-solve of section 3.3 after a clustering: the field in the region R (faces with a vertex
+/// closer than d_sing to a collapsed singularity; boundary-aligned faces stay fixed) with
+/// K̄ = 2π I / N at the remaining singularities and 0 at every other vertex of R. The connection:
+/// across every edge at a fixed face, the fixed field's own turn (so the field is parallel
+/// there); on the edges between free faces, the smallest change of `corrections` that gives
+/// those holonomies. The boundary data is then compatible and the solve returns the parallel
+/// field, whose singularities are the targets. Directional constraints are off. Updates
+/// `corrections` (#E) and returns the new field (#F, unit outside R).
+std::vector<Complex> resolveRegion(const TriMesh& mesh, const field::FieldGeometry& geometry,
+                                   const std::vector<bool>& solvable,
+                                   const field::ClusteringResult& clusters, double dSing, int n,
+                                   const std::vector<Complex>& u,
+                                   std::vector<double>& corrections) {
+  const int nf = static_cast<int>(mesh.n_faces());
+  const std::vector<double> distance =
+      field::edgeGraphDistances(mesh, clusters.collapsedVertices, dSing);
+  field::SmoothSolveInput region;
+  region.free.assign(nf, false);
+  region.value.resize(nf);
+  for (const auto fh : mesh.faces()) {
+    const int f = fh.idx();
+    const double magnitude = std::abs(u[f]);
+    region.value[f] = magnitude > 0.0 ? u[f] / magnitude : Complex(1.0, 0.0);
+    if (!solvable[f]) continue;
+    for (const auto vh : fh.vertices())
+      if (distance[vh.idx()] < dSing) region.free[f] = true;
+  }
+  std::vector<bool> touchesRegion(mesh.n_vertices(), false), freeEdges(mesh.n_edges(), false);
+  for (const auto fh : mesh.faces())
+    if (region.free[fh.idx()])
+      for (const auto vh : fh.vertices()) touchesRegion[vh.idx()] = true;
+  for (const auto eh : mesh.edges()) {
+    if (mesh.is_boundary(eh)) continue;
+    const int f0 = eh.h0().face().idx(), f1 = eh.h1().face().idx();
+    freeEdges[eh.idx()] = region.free[f0] && region.free[f1];
+    if (!freeEdges[eh.idx()]) {  // N δ_e = Arg(u_f1 / (e^{iNρ} u_f0))
+      const Complex rotation = std::polar(1.0, n * geometry.transport[eh.idx()]);
+      corrections[eh.idx()] = std::arg(region.value[f1] / (rotation * region.value[f0])) / n;
+    }
+  }
+  std::vector<double> target(mesh.n_vertices(), 0.0);
+  for (const auto& node : clusters.nodes) target[node.vertex] += 2.0 * M_PI * node.index / n;
+  corrections = field::ConnectionCorrector(mesh, geometry, touchesRegion, freeEdges)
+                    .corrections(target, corrections);
+  return field::solveSmoothField(field::smoothnessTerms(mesh, geometry.transport, corrections, n),
+                                 region);
+}
+
+}  // namespace
+
+std::string FieldOptions::validate() const {
+  std::ostringstream message;
+  if (n != 4 && n != 6)
+    message << "n (the symmetry order) must be 4 or 6, got " << n;
+  else if (!(constraintWeight >= 0.0) || !std::isfinite(constraintWeight))
+    message << "constraintWeight must be a finite number >= 0, got " << constraintWeight;
+  else if (!(curvatureFilterRadius >= 0.0 && curvatureFilterRadius <= 1.0))
+    message
+        << "curvatureFilterRadius must be in [0, 1] (fraction of the bounding-box diagonal), got "
+        << curvatureFilterRadius;
+  else if (!(singularityDistance >= 0.0) || !std::isfinite(singularityDistance))
+    message << "singularityDistance must be a finite distance >= 0 (0: derived), got "
+            << singularityDistance;
+  else if (!(singularityDistanceFraction > 0.0 && singularityDistanceFraction <= 1.0))
+    message << "singularityDistanceFraction must be in (0, 1], got " << singularityDistanceFraction;
+  else if (maxMergedIndex < 1)
+    message << "maxMergedIndex must be >= 1, got " << maxMergedIndex;
+  else if (boundaryTangentReach < 0 || boundaryTangentReach > 16)
+    message << "boundaryTangentReach must be in [0, 16], got " << boundaryTangentReach;
+  else if (const auto problem = curvature.validate(); !problem.empty())
+    message << "curvature." << problem;
+  return message.str();
+}
 
 RosyField rosyFieldFromDirections(const TriMesh& mesh, std::vector<Eigen::Vector3d> directions,
                                   int n) {
@@ -27,6 +187,97 @@ RosyField rosyFieldFromDirections(const TriMesh& mesh, std::vector<Eigen::Vector
   for (std::size_t f = 0; f < directions.size(); ++f)
     angles[f] = geometry.frames.angleOf(static_cast<int>(f), directions[f]);
   return field::rosyFieldFromAngles(mesh, geometry, angles, n);
+}
+
+RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
+                           const RunContext& context) {
+  if (const auto problem = options.validate(); !problem.empty())
+    throw Error(ErrorCode::InvalidOption, "field options: " + problem);
+  if (mesh.n_faces() == 0) throw Error(ErrorCode::InvalidMesh, "field: the mesh has no faces");
+  const int n = options.n;
+  const int nf = static_cast<int>(mesh.n_faces());
+  const double diagonal = boundingBoxDiagonal(mesh);
+  Timings timings;
+  const auto step = [&](double fraction) {
+    context.throwIfCanceled();
+    context.report("field", fraction);
+  };
+
+  step(0.0);
+  const field::FieldGeometry geometry =
+      timed(timings, "geometry", [&] { return field::FieldGeometry(mesh); });
+  step(0.05);
+  const Curvature curvature =
+      timed(timings, "curvature", [&] { return computeCurvature(mesh, options.curvature); });
+
+  step(0.15);
+  field::SmoothSolveInput input = timed(timings, "constraints", [&] {
+    field::SmoothSolveInput in;
+    in.free.assign(nf, true);
+    in.value.assign(nf, Complex(0.0, 0.0));
+    in.softWeight.assign(nf, 0.0);
+    in.softTarget.assign(nf, Complex(0.0, 0.0));
+    if (options.curvatureConstraints)
+      addCurvatureConstraints(mesh, geometry, curvature, options, in);
+    if (options.boundary == BoundaryAlignment::Tangent)
+      fixBoundaryFaces(mesh, geometry, n, options.boundaryTangentReach, in);
+    return in;
+  });
+
+  step(0.2);
+  const field::ConnectionCorrector corrector = timed(timings, "connection", [&] {
+    return field::ConnectionCorrector(mesh, geometry, field::interiorVertices(mesh),
+                                      field::interiorEdges(mesh));
+  });
+  const std::vector<double> filtered = timed(timings, "filter_gauss_curvature", [&] {
+    return field::filterGaussCurvature(
+        mesh, geometry, field::filterSteps(mesh, options.curvatureFilterRadius * diagonal));
+  });
+
+  step(0.3);
+  const std::vector<double> initialCorrections = corrector.corrections(filtered);
+  const std::vector<Complex> initial = timed(timings, "initial_solve", [&] {
+    const auto terms = field::smoothnessTerms(mesh, geometry.transport, initialCorrections, n);
+    return field::solveSmoothField(terms, input);
+  });
+  RosyField initialField = timed(timings, "initial_singularities", [&] {
+    return field::rosyFieldFromAngles(mesh, geometry, anglesOf(initial, n), n);
+  });
+  const int initialCount = static_cast<int>(initialField.singularities.size());
+  const double dSing = options.singularityDistance > 0.0
+                           ? options.singularityDistance
+                           : options.singularityDistanceFraction * diagonal;
+
+  // Clustering rounds (section 3.3): collapse the singularity graph, re-solve in R with K̄ at the
+  // remaining singularities. The smooth re-solve places a singularity on a neighbouring vertex or
+  // leaves a close ± pair now and then, so the rounds repeat on the new field (R shrinks to the
+  // new collapses) until nothing is collapsed or kClusteringRounds is reached.
+  std::vector<double> density(mesh.n_vertices(), 0.0);
+  for (std::size_t v = 0; v < density.size(); ++v)
+    density[v] = curvature.area[v] > 0.0 ? curvature.gauss[v] / curvature.area[v] : 0.0;
+  RosyField result = std::move(initialField);
+  std::vector<Complex> u = initial;
+  std::vector<double> corrections = initialCorrections;
+  for (int round = 0; options.clusterSingularities && round < kClusteringRounds; ++round) {
+    step(0.6 + 0.1 * round);
+    const field::ClusteringResult clusters = timed(timings, "clustering", [&] {
+      std::vector<field::ClusterNode> nodes;
+      for (const auto& s : result.singularities)
+        if (!s.onBoundary) nodes.push_back({s.vertex, s.index});
+      return field::clusterSingularities(mesh, nodes, density, dSing, options.maxMergedIndex);
+    });
+    if (clusters.collapses == 0) break;
+    u = timed(timings, "cluster_solve", [&] {
+      return resolveRegion(mesh, geometry, input.free, clusters, dSing, n, u, corrections);
+    });
+    result = timed(timings, "cluster_singularities",
+                   [&] { return field::rosyFieldFromAngles(mesh, geometry, anglesOf(u, n), n); });
+  }
+  result.singularitiesInitial = initialCount;
+  result.singularityDistance = dSing;
+  result.timings = std::move(timings);
+  context.report("field", 1.0);
+  return result;
 }
 
 }  // namespace hexcover

@@ -37,9 +37,12 @@
 //   failure is a bug and throws std::logic_error.
 
 #include <Eigen/Core>
+#include <string>
 #include <vector>
 
+#include "core/common/run_context.h"
 #include "core/common/timings.h"
+#include "core/geometry/curvature.h"
 #include "core/mesh/mesh.h"
 
 namespace hexcover {
@@ -58,8 +61,58 @@ struct RosyField {
   std::vector<Singularity> singularities;      ///< final singularities, sorted by vertex
   int singularitiesInitial = 0;                ///< count before clustering
   int eulerCharacteristic = 0;                 ///< χ = Σ over components = Σ I / N
-  Timings timings;
+  double singularityDistance = 0.0;            ///< d_sing used by clustering (mesh units)
+  Timings timings;                             ///< per step: geometry, curvature, ...
 };
+
+/// What one field direction does along mesh boundaries.
+enum class BoundaryAlignment {
+  Tangent,  ///< faces with a boundary edge have one direction along it (hard constraint)
+  Free,     ///< no boundary condition (natural boundary)
+};
+
+/// Options of computeRosyField; every default is the paper's choice where it makes one.
+struct FieldOptions {
+  int n = 6;  ///< symmetry order N: 6 (triangle/hex remeshing) or 4 (quads)
+  CurvatureOptions curvature;
+  /// Directional constraints at strong cylindrical faces (section 3.2).
+  bool curvatureConstraints = true;
+  /// λ: weight of a directional constraint relative to the smoothness weights (≈ 1.7 per edge
+  /// on equilateral triangles). Soft: noisy curvature directions are smoothed over.
+  double constraintWeight = 0.1;
+  /// Radius of the filter that turns the angle defect K into K̄ (Ray et al.), as a fraction of
+  /// the bounding-box diagonal. 0 keeps K̄ = K (plain smoothest field).
+  double curvatureFilterRadius = 0.02;
+  /// Singularity clustering (section 3.3).
+  bool clusterSingularities = true;
+  /// d_sing in mesh units; 0 means singularityDistanceFraction × bounding-box diagonal.
+  double singularityDistance = 0.0;
+  double singularityDistanceFraction = 0.1;  ///< the paper's 0.1 B
+  /// Largest |I| a merge may create. 1 keeps every singularity of index ±1/N, whose fixed point
+  /// is a lattice point in the parameterization (±2/6 and ±3/6 would need ⅓ and ½ lattice
+  /// points); such pairs then stay closer than d_sing. Set higher to allow higher-order merges.
+  int maxMergedIndex = 1;
+  BoundaryAlignment boundary = BoundaryAlignment::Tangent;
+  /// With Tangent: a boundary edge's tangent is the chord from the boundary vertex `reach` steps
+  /// before it to the one `reach` steps after it (0: the edge itself). Smooths the zigzags of
+  /// scanned boundaries, each of which would otherwise be a boundary singularity.
+  int boundaryTangentReach = 1;
+
+  /// Empty when valid; otherwise names the bad option and its valid range.
+  std::string validate() const;
+};
+
+/// The geometry-aware N-RoSy field of paper section 3: curvature (core/geometry), directional
+/// constraints at strong cylindrical faces, the smooth solve with the filtered Gauss curvature K̄
+/// (Ray et al.), singularity extraction, clustering with d_sing and the re-solve in the region R
+/// around the collapsed singularities (K̄ zero except 2πI/N at the remaining ones). Every
+/// component is solved on its own terms (its own constraints, or its smoothest field when it has
+/// none). Deterministic: the same mesh and options give the same bytes. Poincaré–Hopf is checked
+/// per component on the initial and the final field (std::logic_error on failure: a bug).
+/// Throws Error(InvalidOption) for invalid options, Error(InvalidMesh) for a mesh without faces,
+/// Error(NumericalFailure) if a factorization fails, Error(Canceled) when `context` asks.
+RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options = {},
+                           const RunContext& context = {});
 
 /// Builds a RosyField from given per-face representative directions (#F vectors, any tangent
 /// vectors: they are projected to the face plane and normalized): computes the matchings and the

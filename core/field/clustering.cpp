@@ -1,0 +1,190 @@
+#include "core/field/clustering.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <queue>
+#include <tuple>
+#include <utility>
+
+namespace hexcover::field {
+namespace {
+
+using QueueEntry = std::pair<double, int>;  // (distance, vertex): ties by vertex index
+using MinQueue = std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<>>;
+
+/// Edge lengths of the mesh, #E.
+std::vector<double> edgeLengths(const TriMesh& mesh) {
+  std::vector<double> length(mesh.n_edges());
+  for (const auto eh : mesh.edges()) length[eh.idx()] = mesh.calc_edge_length(eh);
+  return length;
+}
+
+/// Single-source Dijkstra stopped at a radius, reusing its arrays between runs.
+class GeodesicBall {
+ public:
+  GeodesicBall(const TriMesh& mesh, const std::vector<double>& edgeLength)
+      : mesh_(mesh),
+        edgeLength_(edgeLength),
+        distance_(mesh.n_vertices(), std::numeric_limits<double>::infinity()),
+        previous_(mesh.n_vertices(), -1) {}
+
+  /// Vertices closer than `radius` to `source`, in the order they were settled.
+  const std::vector<int>& grow(int source, double radius) {
+    for (const int v : touched_) {
+      distance_[v] = std::numeric_limits<double>::infinity();
+      previous_[v] = -1;
+    }
+    touched_.clear();
+    settled_.clear();
+    MinQueue queue;
+    distance_[source] = 0.0;
+    touched_.push_back(source);
+    queue.emplace(0.0, source);
+    while (!queue.empty()) {
+      const auto [d, v] = queue.top();
+      queue.pop();
+      if (d > distance_[v]) continue;
+      settled_.push_back(v);
+      for (const auto heh : mesh_.voh_range(mesh_.vertex_handle(v))) {
+        const int w = heh.to().idx();
+        const double dw = d + edgeLength_[heh.edge().idx()];
+        if (dw < distance_[w] && dw < radius) {
+          if (distance_[w] == std::numeric_limits<double>::infinity()) touched_.push_back(w);
+          distance_[w] = dw;
+          previous_[w] = v;
+          queue.emplace(dw, w);
+        }
+      }
+    }
+    return settled_;
+  }
+
+  double distance(int v) const { return distance_[v]; }
+
+  /// The path from the last source to v (both included), v reached.
+  std::vector<int> pathTo(int v) const {
+    std::vector<int> path;
+    for (int w = v; w >= 0; w = previous_[w]) path.push_back(w);
+    std::reverse(path.begin(), path.end());
+    return path;
+  }
+
+ private:
+  const TriMesh& mesh_;
+  const std::vector<double>& edgeLength_;
+  std::vector<double> distance_;
+  std::vector<int> previous_;
+  std::vector<int> settled_, touched_;
+};
+
+}  // namespace
+
+std::vector<double> edgeGraphDistances(const TriMesh& mesh, const std::vector<int>& sources,
+                                       double limit) {
+  const auto length = edgeLengths(mesh);
+  std::vector<double> distance(mesh.n_vertices(), std::numeric_limits<double>::infinity());
+  MinQueue queue;
+  for (const int s : sources) {
+    distance[s] = 0.0;
+    queue.emplace(0.0, s);
+  }
+  while (!queue.empty()) {
+    const auto [d, v] = queue.top();
+    queue.pop();
+    if (d > distance[v]) continue;
+    for (const auto heh : mesh.voh_range(mesh.vertex_handle(v))) {
+      const int w = heh.to().idx();
+      const double dw = d + length[heh.edge().idx()];
+      if (dw < distance[w] && dw < limit) {
+        distance[w] = dw;
+        queue.emplace(dw, w);
+      }
+    }
+  }
+  return distance;
+}
+
+ClusteringResult clusterSingularities(const TriMesh& mesh, const std::vector<ClusterNode>& initial,
+                                      const std::vector<double>& gaussDensity, double dSing,
+                                      int maxIndex) {
+  const auto length = edgeLengths(mesh);
+  GeodesicBall ball(mesh, length);
+  std::vector<ClusterNode> nodes = initial;
+  std::vector<bool> alive(nodes.size(), true);
+  std::vector<std::vector<int>> nodesAt(mesh.n_vertices());
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    nodesAt[nodes[i].vertex].push_back(static_cast<int>(i));
+
+  // Candidate edges of the singularity graph shorter than d_sing: (length, a, b) with a < b.
+  using Candidate = std::tuple<double, int, int>;
+  std::priority_queue<Candidate, std::vector<Candidate>, std::greater<>> candidates;
+  const auto addNeighbours = [&](int node) {
+    for (const int v : ball.grow(nodes[node].vertex, dSing)) {
+      if (!(ball.distance(v) < dSing)) continue;
+      for (const int other : nodesAt[v])
+        if (other != node && alive[other])
+          candidates.emplace(ball.distance(v), std::min(node, other), std::max(node, other));
+    }
+  };
+  for (std::size_t i = 0; i < nodes.size(); ++i) addNeighbours(static_cast<int>(i));
+
+  ClusteringResult result;
+  const auto remove = [&](int node) {
+    alive[node] = false;
+    auto& at = nodesAt[nodes[node].vertex];
+    at.erase(std::find(at.begin(), at.end(), node));
+  };
+  while (!candidates.empty()) {
+    const auto [distance, a, b] = candidates.top();
+    candidates.pop();
+    if (!alive[a] || !alive[b]) continue;
+    const int sum = nodes[a].index + nodes[b].index;
+    if (std::abs(sum) > maxIndex) {
+      ++result.forbiddenPairs;
+      continue;
+    }
+    const int va = nodes[a].vertex, vb = nodes[b].vertex;
+    result.collapsedVertices.push_back(va);
+    result.collapsedVertices.push_back(vb);
+    ++result.collapses;
+    remove(a);
+    remove(b);
+    if (sum == 0) continue;  // cancellation
+
+    // The merged node: on the shortest path a → b at fraction |K_b| / (|K_a| + |K_b|).
+    ball.grow(va, dSing);  // reaches vb: the pair is closer than d_sing
+    const std::vector<int> path = ball.pathTo(vb);
+    const double ka = std::abs(gaussDensity[va]), kb = std::abs(gaussDensity[vb]);
+    const double fraction = ka + kb > 0.0 ? kb / (ka + kb) : 0.5;
+    const double target = fraction * ball.distance(vb);
+    int best = -1;
+    double bestGap = std::numeric_limits<double>::infinity();
+    for (const int v : path) {
+      if (mesh.is_boundary(mesh.vertex_handle(v))) continue;
+      const double gap = std::abs(ball.distance(v) - target);
+      if (gap < bestGap) {
+        bestGap = gap;
+        best = v;
+      }
+    }
+    if (best < 0) best = ka >= kb ? va : vb;
+    const int merged = static_cast<int>(nodes.size());
+    nodes.push_back({best, sum});
+    alive.push_back(true);
+    nodesAt[best].push_back(merged);
+    addNeighbours(merged);
+  }
+
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    if (alive[i]) result.nodes.push_back(nodes[i]);
+  std::sort(result.nodes.begin(), result.nodes.end(),
+            [](const ClusterNode& x, const ClusterNode& y) { return x.vertex < y.vertex; });
+  std::sort(result.collapsedVertices.begin(), result.collapsedVertices.end());
+  result.collapsedVertices.erase(
+      std::unique(result.collapsedVertices.begin(), result.collapsedVertices.end()),
+      result.collapsedVertices.end());
+  return result;
+}
+
+}  // namespace hexcover::field

@@ -1,0 +1,44 @@
+#pragma once
+// Internal to core/field: singularity clustering (paper section 3.3) and the geodesic distances
+// it needs. Distances are shortest paths along mesh edges (Dijkstra), an upper bound of the
+// geodesic distance that is within a few percent of it on well-shaped meshes.
+
+#include <limits>
+#include <vector>
+
+#include "core/mesh/mesh.h"
+
+namespace hexcover::field {
+
+/// Multi-source Dijkstra along edges from `sources` (vertex indices), stopped at `limit`:
+/// #V distances, +∞ for vertices at `limit` or farther.
+std::vector<double> edgeGraphDistances(const TriMesh& mesh, const std::vector<int>& sources,
+                                       double limit = std::numeric_limits<double>::infinity());
+
+struct ClusterNode {
+  int vertex = -1;
+  int index = 0;  ///< I (index I/N)
+};
+
+struct ClusteringResult {
+  std::vector<ClusterNode> nodes;  ///< the remaining singularity constraints, I ≠ 0, by vertex
+  std::vector<int> collapsedVertices;  ///< V_collapse: both ends of every collapsed edge, sorted
+  int collapses = 0;                   ///< merges and cancellations performed
+  int forbiddenPairs = 0;              ///< pairs closer than d_sing left apart (|I_a + I_b| > max)
+};
+
+/// Collapses the singularity graph (section 3.3). The graph is the dual of the geodesic Voronoi
+/// diagram of the singularities; only its edges shorter than d_sing are ever collapsed, and
+/// those are found as the pairs within distance d_sing by Dijkstra from every node stopped at
+/// d_sing (which also includes close pairs that are not Voronoi neighbours, so that at the end no
+/// two nodes are closer than d_sing). Edges are collapsed by increasing length (ties: lower node
+/// ids first): the merged node has index I_a + I_b and sits on the shortest path from a to b at
+/// arc-length fraction |K_b| / (|K_a| + |K_b|) (½ when both are 0), i.e. closer to the larger
+/// |K|; a zero sum cancels both. Collapses that would give |I| > maxIndex are skipped. Nodes are
+/// never placed on boundary vertices (the nearest interior vertex of the path is used).
+/// `nodes` must be interior vertices; `gaussDensity` is #V |K|/area or any per-vertex weight.
+ClusteringResult clusterSingularities(const TriMesh& mesh, const std::vector<ClusterNode>& nodes,
+                                      const std::vector<double>& gaussDensity, double dSing,
+                                      int maxIndex);
+
+}  // namespace hexcover::field

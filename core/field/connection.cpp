@@ -1,0 +1,153 @@
+#include "core/field/connection.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "core/common/error.h"
+
+namespace hexcover::field {
+
+std::vector<double> filterGaussCurvature(const TriMesh& mesh, const FieldGeometry& geometry,
+                                         int steps) {
+  const int nv = static_cast<int>(mesh.n_vertices());
+  std::vector<double> k(nv, 0.0), share(nv, 0.0), next(nv, 0.0);
+  std::vector<int> degree(nv, 0);
+  for (const auto vh : mesh.vertices()) {
+    if (mesh.is_boundary(vh) || mesh.is_isolated(vh)) continue;
+    k[vh.idx()] = geometry.angleDefect[vh.idx()];
+    for (const auto w : vh.vertices())
+      if (!mesh.is_boundary(w)) ++degree[vh.idx()];
+  }
+  for (int step = 0; step < steps; ++step) {
+    for (int v = 0; v < nv; ++v) {
+      share[v] = degree[v] > 0 ? 0.5 * k[v] / degree[v] : 0.0;
+      next[v] = degree[v] > 0 ? 0.5 * k[v] : k[v];
+    }
+    for (const auto eh : mesh.edges()) {
+      const int a = eh.v0().idx(), b = eh.v1().idx();
+      if (degree[a] == 0 || degree[b] == 0 || mesh.is_boundary(eh.v0()) ||
+          mesh.is_boundary(eh.v1()))
+        continue;
+      next[a] += share[b];
+      next[b] += share[a];
+    }
+    k.swap(next);
+  }
+  return k;
+}
+
+int filterSteps(const TriMesh& mesh, double radius) {
+  if (!(radius > 0.0) || mesh.n_edges() == 0) return 0;
+  double total = 0.0;
+  for (const auto eh : mesh.edges()) total += mesh.calc_edge_length(eh);
+  const double mean = total / static_cast<double>(mesh.n_edges());
+  if (!(mean > 0.0)) return 0;
+  const double ratio = radius / mean;
+  return static_cast<int>(std::min(400.0, std::ceil(2.0 * ratio * ratio)));
+}
+
+std::vector<bool> interiorVertices(const TriMesh& mesh) {
+  std::vector<bool> interior(mesh.n_vertices(), false);
+  for (const auto vh : mesh.vertices())
+    interior[vh.idx()] = !mesh.is_boundary(vh) && !mesh.is_isolated(vh);
+  return interior;
+}
+
+std::vector<bool> interiorEdges(const TriMesh& mesh) {
+  std::vector<bool> interior(mesh.n_edges(), false);
+  for (const auto eh : mesh.edges()) interior[eh.idx()] = !mesh.is_boundary(eh);
+  return interior;
+}
+
+ConnectionCorrector::ConnectionCorrector(const TriMesh& mesh, const FieldGeometry& geometry,
+                                         const std::vector<bool>& constrained,
+                                         const std::vector<bool>& freeEdges)
+    : mesh_(mesh), geometry_(geometry), freeEdge_(freeEdges), row_(mesh.n_vertices(), -1) {
+  const int nv = static_cast<int>(mesh.n_vertices());
+  const auto isConstrained = [&](int v) {
+    return constrained[v] && !mesh.is_boundary(mesh.vertex_handle(v));
+  };
+  std::vector<int> parent(nv);
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto root = [&](int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  std::vector<bool> anchored(nv, false);
+  for (const auto eh : mesh.edges()) {
+    if (!freeEdge_[eh.idx()] || mesh.is_boundary(eh)) continue;
+    const int a = eh.v0().idx(), b = eh.v1().idx();
+    if (isConstrained(a) && isConstrained(b)) {
+      const int ra = root(a), rb = root(b);
+      if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+    } else if (isConstrained(a)) {
+      anchored[a] = true;
+    } else if (isConstrained(b)) {
+      anchored[b] = true;
+    }
+  }
+  std::vector<bool> groupAnchored(nv, false);
+  for (int v = 0; v < nv; ++v)
+    if (isConstrained(v) && anchored[v]) groupAnchored[root(v)] = true;
+  int rows = 0;
+  for (int v = 0; v < nv; ++v) {
+    if (!isConstrained(v)) continue;
+    if (!groupAnchored[root(v)]) {  // the lowest vertex of the group (its root) is pinned
+      groupAnchored[root(v)] = true;
+      continue;
+    }
+    row_[v] = rows++;
+  }
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(rows + 2 * mesh.n_edges());
+  std::vector<double> diagonal(rows, 0.0);
+  for (const auto eh : mesh.edges()) {
+    if (!freeEdge_[eh.idx()] || mesh.is_boundary(eh)) continue;
+    const int a = row_[eh.v0().idx()], b = row_[eh.v1().idx()];
+    if (a >= 0) diagonal[a] += 1.0;
+    if (b >= 0) diagonal[b] += 1.0;
+    if (a >= 0 && b >= 0) {
+      triplets.emplace_back(a, b, -1.0);
+      triplets.emplace_back(b, a, -1.0);
+    }
+  }
+  for (int r = 0; r < rows; ++r) triplets.emplace_back(r, r, diagonal[r]);
+  Eigen::SparseMatrix<double> laplacian(rows, rows);
+  laplacian.setFromTriplets(triplets.begin(), triplets.end());
+  solver_.compute(laplacian);
+  if (solver_.info() != Eigen::Success)
+    throw Error(ErrorCode::NumericalFailure,
+                "field: the connection system could not be factorized (is the mesh valid?)");
+}
+
+std::vector<double> ConnectionCorrector::holonomy(const std::vector<double>& c) const {
+  std::vector<double> h = geometry_.angleDefect;
+  if (c.empty()) return h;
+  for (const auto eh : mesh_.edges()) {
+    if (mesh_.is_boundary(eh)) continue;
+    h[eh.h0().to().idx()] += c[eh.idx()];  // s = +1 at to(h0), −1 at to(h1)
+    h[eh.h1().to().idx()] -= c[eh.idx()];
+  }
+  return h;
+}
+
+std::vector<double> ConnectionCorrector::corrections(const std::vector<double>& target,
+                                                     const std::vector<double>& base) const {
+  const int rows = static_cast<int>(solver_.rows());
+  const std::vector<double> current = holonomy(base);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(rows);
+  for (int v = 0; v < static_cast<int>(row_.size()); ++v)
+    if (row_[v] >= 0) rhs[row_[v]] = target[v] - current[v];
+  const Eigen::VectorXd lambda = rows > 0 ? Eigen::VectorXd(solver_.solve(rhs)) : rhs;
+  std::vector<double> c = base.empty() ? std::vector<double>(mesh_.n_edges(), 0.0) : base;
+  for (const auto eh : mesh_.edges()) {
+    if (!freeEdge_[eh.idx()] || mesh_.is_boundary(eh)) continue;
+    // Δ = Aᵀλ with A[to(h0), e] = +1, A[to(h1), e] = −1.
+    const int a = row_[eh.h0().to().idx()], b = row_[eh.h1().to().idx()];
+    c[eh.idx()] += (a >= 0 ? lambda[a] : 0.0) - (b >= 0 ? lambda[b] : 0.0);
+  }
+  return c;
+}
+
+}  // namespace hexcover::field

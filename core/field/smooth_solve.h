@@ -1,0 +1,44 @@
+#pragma once
+// Internal to core/field: the smoothness solve in the power representation (paper section 3.2,
+// after Ray et al.). One complex unknown u_f = e^{iNθ_f} per face in its frame; the energy
+//   E(u) = Σ_e w_e |u_f1 − r_e u_f0|² + Σ_f λ_f |u_f − q_f|²,   r_e = e^{iN(ρ_e + c_e)},
+// over interior edges, with some faces fixed (hard constraints, or the field outside the
+// re-solve region) and soft constraints q_f of weight λ_f. Its minimizer solves the Hermitian
+// positive (semi)definite system (L + Λ) u = Λ q + (terms of the fixed faces), factored with a
+// complex SimplicialLDLT. A connected group of free faces that touches no fixed face and has no
+// soft constraint has only the trivial minimizer u = 0; it gets the smoothest unit field instead:
+// the eigenvector of the smallest eigenvalue of L by inverse power iteration from a fixed start
+// vector (deterministic).
+
+#include <complex>
+#include <vector>
+
+#include "core/mesh/mesh.h"
+
+namespace hexcover::field {
+
+using Complex = std::complex<double>;
+
+/// The energy's terms, built once per mesh and transport.
+struct SmoothnessTerms {
+  std::vector<int> face0, face1;  ///< per interior edge: f0 = face(h0), f1 = face(h1)
+  std::vector<double> weight;     ///< w_e = |e| / |c_f0 − c_f1| (clamped to [1e-3, 1e3])
+  std::vector<Complex> rotation;  ///< r_e = e^{iN(ρ_e + c_e)}
+};
+
+/// Terms for the interior edges of `mesh` with transport angles ρ + c (#E each).
+SmoothnessTerms smoothnessTerms(const TriMesh& mesh, const std::vector<double>& transport,
+                                const std::vector<double>& corrections, int n);
+
+struct SmoothSolveInput {
+  std::vector<bool> free;           ///< #F: unknown (true) or fixed to `value` (false)
+  std::vector<Complex> value;       ///< #F values of the fixed faces (free entries unused)
+  std::vector<double> softWeight;   ///< #F λ_f ≥ 0 (empty: none)
+  std::vector<Complex> softTarget;  ///< #F q_f (used where λ_f > 0)
+};
+
+/// Minimizer u (#F; fixed faces keep their values). Throws Error(NumericalFailure) when the
+/// factorization fails.
+std::vector<Complex> solveSmoothField(const SmoothnessTerms& terms, const SmoothSolveInput& input);
+
+}  // namespace hexcover::field

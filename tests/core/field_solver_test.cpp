@@ -1,0 +1,231 @@
+// The geometry-aware field solve (computeRosyField): Poincaré–Hopf on generated and shared meshes,
+// alignment, clustering, robustness and determinism.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+#include <cmath>
+#include <cstring>
+
+#include "core/common/error.h"
+#include "core/field/clustering.h"
+#include "core/field/rosy_field.h"
+#include "core/mesh/load.h"
+#include "core/mesh/primitives.h"
+#include "tests/common/test_meshes.h"
+
+namespace hexcover {
+namespace {
+
+int indexSum(const RosyField& field) {
+  int sum = 0;
+  for (const auto& s : field.singularities) sum += s.index;
+  return sum;
+}
+
+void expectUnitTangentDirections(const TriMesh& mesh, const RosyField& field) {
+  ASSERT_EQ(field.faceDirection.size(), mesh.n_faces());
+  for (const auto fh : mesh.faces()) {
+    const Eigen::Vector3d& d = field.faceDirection[fh.idx()];
+    ASSERT_TRUE(d.allFinite()) << "face " << fh.idx();
+    ASSERT_NEAR(d.norm(), 1.0, 1e-9) << "face " << fh.idx();
+  }
+  for (const auto& s : field.singularities) ASSERT_TRUE(s.position.allFinite());
+}
+
+/// The smallest angle between any of the N directions of face f and the unit tangent t, radians.
+double angleToNearestDirection(const Eigen::Vector3d& direction, const Eigen::Vector3d& normal,
+                               const Eigen::Vector3d& t, int n) {
+  const double angle = std::atan2(normal.dot(direction.cross(t)), direction.dot(t));
+  const double period = 2.0 * M_PI / n;
+  return std::abs(angle - period * std::round(angle / period));
+}
+
+Eigen::Vector3d faceNormal(const TriMesh& mesh, TriMesh::FaceHandle fh) {
+  std::array<Eigen::Vector3d, 3> p;
+  int i = 0;
+  for (const auto vh : mesh.fv_range(fh)) p[i++] = toEigen(mesh.point(vh));
+  return (p[1] - p[0]).cross(p[2] - p[0]).normalized();
+}
+
+TEST(FieldSolver, IndexSumsEqualEulerCharacteristicOnGeneratedMeshes) {
+  const struct {
+    const char* name;
+    TriMesh mesh;
+    int chi;
+  } cases[] = {{"icosphere", makeIcosphere(3), 2},
+               {"torus", makeTorus(2.0, 0.6, 60, 20), 0},
+               {"tube", makeTube(1.0, 3.0, 40, 23), 0},
+               {"grid", makeEquilateralGrid(12, 12), 1}};
+  for (const auto& c : cases) {
+    for (const int n : {4, 6}) {
+      FieldOptions options;
+      options.n = n;
+      const RosyField field = computeRosyField(c.mesh, options);
+      EXPECT_EQ(field.eulerCharacteristic, c.chi) << c.name;
+      EXPECT_EQ(indexSum(field), n * c.chi) << c.name << ", N = " << n;
+      expectUnitTangentDirections(c.mesh, field);
+    }
+  }
+}
+
+TEST(FieldSolver, IcosphereFieldHasTwelvePositiveFirstOrderSingularities) {
+  // All points are umbilic (no directional constraints); the smoothest 6-RoSy field on a sphere
+  // with icosahedral symmetry puts a +1/6 singularity at each of the 12 valence-5 vertices.
+  const TriMesh sphere = makeIcosphere(3);
+  const RosyField field = computeRosyField(sphere);
+  EXPECT_EQ(field.singularities.size(), 12u);
+  for (const auto& s : field.singularities) {
+    EXPECT_EQ(s.index, 1);
+    EXPECT_EQ(sphere.valence(sphere.vertex_handle(s.vertex)), 5u);
+  }
+}
+
+TEST(FieldSolver, OneDirectionFollowsTheCircumferenceOfATube) {
+  const TriMesh tube = makeTube(1.0, 3.0, 48, 31);
+  for (const int n : {6, 4}) {
+    FieldOptions options;
+    options.n = n;
+    for (const auto boundary : {BoundaryAlignment::Tangent, BoundaryAlignment::Free}) {
+      options.boundary = boundary;
+      const RosyField field = computeRosyField(tube, options);
+      int checked = 0;
+      for (const auto fh : tube.faces()) {
+        Eigen::Vector3d c = Eigen::Vector3d::Zero();
+        for (const auto vh : fh.vertices()) c += toEigen(tube.point(vh)) / 3.0;
+        if (c.z() < 0.3 || c.z() > 2.7) continue;  // the interior
+        const Eigen::Vector3d around = Eigen::Vector3d(-c.y(), c.x(), 0.0).normalized();
+        EXPECT_LT(
+            angleToNearestDirection(field.faceDirection[fh.idx()], faceNormal(tube, fh), around, n),
+            M_PI / 180.0)
+            << "face " << fh.idx() << ", N = " << n;
+        ++checked;
+      }
+      EXPECT_GT(checked, 1000);
+      EXPECT_TRUE(field.singularities.empty());
+    }
+  }
+}
+
+TEST(FieldSolver, TangentBoundaryAlignmentFollowsTheBoundaryEdges) {
+  const TriMesh grid = makeEquilateralGrid(14, 14);
+  FieldOptions options;
+  options.boundaryTangentReach = 0;  // the edges themselves, not chords across the zigzag sides
+  const RosyField field = computeRosyField(grid, options);
+  for (const auto eh : grid.edges()) {
+    if (!grid.is_boundary(eh)) continue;
+    const auto h = eh.h0().is_boundary() ? eh.h1() : eh.h0();
+    const Eigen::Vector3d t = toEigen(grid.point(h.to()) - grid.point(h.from())).normalized();
+    EXPECT_LT(angleToNearestDirection(field.faceDirection[h.face().idx()], Eigen::Vector3d::UnitZ(),
+                                      t, 6),
+              1e-9);
+  }
+}
+
+TEST(FieldSolver, SliversValenceThreeVerticesAndBoundariesGiveFiniteOutput) {
+  // A tube whose faces are split 1-to-3 at points 1e-9 from one of their edges: every split
+  // adds a valence-3 vertex and a sliver.
+  TriMesh mesh = makeTube(1.0, 2.0, 24, 15);
+  std::vector<TriMesh::FaceHandle> faces(mesh.faces_begin(), mesh.faces_end());
+  for (std::size_t i = 0; i < faces.size(); i += 7) {
+    const auto h = mesh.halfedge_handle(faces[i]);
+    const auto a = mesh.point(mesh.from_vertex_handle(h)), b = mesh.point(mesh.to_vertex_handle(h));
+    const auto c = mesh.point(mesh.to_vertex_handle(mesh.next_halfedge_handle(h)));
+    mesh.split(faces[i], mesh.add_vertex(0.5 * (a + b) + 1e-9 * (c - 0.5 * (a + b))));
+  }
+  const RosyField field = computeRosyField(mesh);
+  expectUnitTangentDirections(mesh, field);
+  EXPECT_EQ(indexSum(field), 0);
+}
+
+TEST(FieldSolver, RunsAreBitIdentical) {
+  const TriMesh torus = makeTorus(2.0, 0.7, 48, 18);
+  FieldOptions options;
+  options.singularityDistanceFraction = 0.05;
+  Eigen::setNbThreads(1);
+  const RosyField first = computeRosyField(torus, options);
+  Eigen::setNbThreads(2);
+  const RosyField second = computeRosyField(torus, options);
+  Eigen::setNbThreads(0);
+  ASSERT_EQ(first.faceDirection.size(), second.faceDirection.size());
+  EXPECT_EQ(std::memcmp(first.faceDirection.data(), second.faceDirection.data(),
+                        first.faceDirection.size() * sizeof(Eigen::Vector3d)),
+            0);
+  EXPECT_EQ(first.edgeMatching, second.edgeMatching);
+}
+
+TEST(FieldSolver, RejectsBadOptionsByName) {
+  FieldOptions options;
+  options.n = 5;
+  EXPECT_NE(options.validate().find("n (the symmetry order)"), std::string::npos);
+  EXPECT_THROW(computeRosyField(makeIcosphere(1), options), Error);
+  options = {};
+  options.singularityDistance = -1.0;
+  EXPECT_NE(options.validate().find("singularityDistance"), std::string::npos);
+  options = {};
+  options.curvature.strongAreaFraction = 2.0;
+  EXPECT_NE(options.validate().find("curvature.strongAreaFraction"), std::string::npos);
+}
+
+TEST(FieldSolver, StopsWhenCanceled) {
+  RunContext context;
+  context.cancelRequested = [] { return true; };
+  try {
+    computeRosyField(makeIcosphere(2), {}, context);
+    FAIL() << "expected a cancellation";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::Canceled);
+  }
+}
+
+TEST(FieldSolver, IndexSumsEqualEulerCharacteristicOnSharedMeshes) {
+  const struct {
+    const char* file;
+    int chi;
+  } cases[] = {{"clean/icosphere.obj", 2},
+               {"clean/torus.off", 0},
+               {"clean/fertility_28k.obj", -6},
+               {"clean/schwarzp_cell_open.obj", -4},
+               {"clean/camelhead.off", 1}};
+  for (const auto& c : cases) {
+    HEXCOVER_SHARED_MESH_OR_SKIP(path, c.file);
+    const TriMesh mesh = loadMesh(path);
+    const RosyField field = computeRosyField(mesh);
+    EXPECT_EQ(field.eulerCharacteristic, c.chi) << c.file;
+    EXPECT_EQ(indexSum(field), 6 * c.chi) << c.file;
+    expectUnitTangentDirections(mesh, field);
+  }
+}
+
+TEST(FieldSolver, ClusteringOnTheBunnyLeavesNoCloseMergeablePairs) {
+  HEXCOVER_SHARED_MESH_OR_SKIP(path, "clean/stanford-bunny.obj");
+  const TriMesh mesh = loadMesh(path);
+  FieldOptions options;
+  options.clusterSingularities = false;
+  const RosyField unclustered = computeRosyField(mesh, options);
+  options.clusterSingularities = true;
+  const RosyField field = computeRosyField(mesh, options);
+
+  EXPECT_EQ(field.singularitiesInitial, static_cast<int>(unclustered.singularities.size()));
+  EXPECT_LT(field.singularities.size(), unclustered.singularities.size());
+  EXPECT_EQ(indexSum(field), indexSum(unclustered));
+  EXPECT_EQ(indexSum(field), 6 * field.eulerCharacteristic);
+
+  // Interior singularities: none closer than d_sing unless their merge is forbidden (|I| > 1).
+  std::vector<int> indexAt(mesh.n_vertices(), 0);
+  for (const auto& s : field.singularities)
+    if (!s.onBoundary) indexAt[s.vertex] = s.index;
+  int closePairs = 0;
+  for (const auto& s : field.singularities) {
+    if (s.onBoundary) continue;
+    const auto distance = field::edgeGraphDistances(mesh, {s.vertex}, field.singularityDistance);
+    for (const auto& t : field.singularities)
+      if (!t.onBoundary && t.vertex != s.vertex && distance[t.vertex] < field.singularityDistance &&
+          std::abs(s.index + t.index) <= options.maxMergedIndex)
+        ++closePairs;
+  }
+  EXPECT_EQ(closePairs, 0);
+}
+
+}  // namespace
+}  // namespace hexcover
