@@ -264,7 +264,7 @@ class SurfaceSampler {
       cells_.push_back({t, addSample((a + b + c) / 3.0, face_[t[0]]), area});
     }
     queryFrom(firstNew);
-    for (auto& cell : cells_) cell.bound = bound(cell);
+    parallelFor(cells_.size(), options_.threads, [&](std::size_t i) { cells_[i].bound = bound(cells_[i]); });
   }
 
   /// Splits cells (area-proportional sampling, then bound-driven refinement) until the
@@ -399,7 +399,8 @@ class SurfaceSampler {
     }
     for (std::size_t i = firstCell; i < cells_.size(); ++i) changed.push_back(static_cast<int>(i));
     queryFrom(firstSample);
-    for (const int i : changed) cells_[i].bound = bound(cells_[i]);
+    parallelFor(changed.size(), options_.threads,
+                [&](std::size_t k) { cells_[changed[k]].bound = bound(cells_[changed[k]]); });
   }
 
   const ClosestPointQuery& to_;

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "core/common/error.h"
+#include "core/mesh/load.h"
 #include "core/mesh/primitives.h"
 #include "core/metrics/metrics.h"
 #include "tests/common/test_meshes.h"
@@ -176,6 +177,35 @@ TEST(MetricsDistance, RejectsBadOptions) {
     EXPECT_EQ(e.code(), ErrorCode::InvalidOption);
     EXPECT_NE(std::string(e.what()).find("relativeTolerance"), std::string::npos);
   }
+}
+
+TEST(MetricsDistance, SharedBunnyAgainstItselfIsZero) {
+  HEXCOVER_SHARED_MESH_OR_SKIP(path, "clean/bunny_7k.off");
+  const TriMesh bunny = loadMesh(path);
+  const QualityReport q = measureQuality(bunny, &bunny);
+  EXPECT_LT(q.distance->hausdorffPct, 1e-9);
+  EXPECT_LT(q.distance->meanPct, 1e-9);
+  EXPECT_TRUE(q.distance->hausdorffCertified);
+  EXPECT_EQ(q.topology.eulerCharacteristic, 2);  // shared/meshes/README: χ = 2, genus 0
+  EXPECT_EQ(q.topology.genus(), 0);
+  EXPECT_TRUE(*q.topologyMatchesReference);
+}
+
+TEST(MetricsDistance, SharedBunnyAgainstAShiftedCopyIsTheShift) {
+  // A translation by t moves every point by |t|; a surface's distance to its translate is at
+  // most |t| and equals it where the translate's normal is parallel to t on a flat enough patch,
+  // so the two-sided Hausdorff distance lies just below |t|.
+  HEXCOVER_SHARED_MESH_OR_SKIP(path, "clean/bunny_7k.off");
+  const TriMesh bunny = loadMesh(path);
+  const double diagonal = boundingBoxDiagonal(bunny);
+  TriMesh shifted = bunny;
+  const TriMesh::Point t(0.0, 0.0, 0.002 * diagonal);
+  for (const auto vh : shifted.vertices()) shifted.set_point(vh, shifted.point(vh) + t);
+  const QualityReport q = measureQuality(shifted, &bunny);
+  EXPECT_LE(q.distance->hausdorffPct, 0.2 * (1.0 + 1e-9));
+  EXPECT_GT(q.distance->hausdorffPct, 0.19);
+  EXPECT_LT(q.distance->meanPct, q.distance->hausdorffPct);
+  EXPECT_TRUE(q.distance->hausdorffCertified);
 }
 
 }  // namespace
