@@ -117,6 +117,19 @@ BoundaryIndex::Hit BoundaryIndex::nearest(const Eigen::Vector3d& p, double radiu
   return best;
 }
 
+BoundaryIndex::Hit BoundaryIndex::nearestOnLoop(const Eigen::Vector3d& p, int i) const {
+  Hit best;
+  const auto& points = loops_[i];
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const Eigen::Vector3d& a = points[k];
+    const Eigen::Vector3d& b = points[(k + 1) % points.size()];
+    const double t = closestOnSegment(p, a, b);
+    const double d = (a + t * (b - a) - p).norm();
+    if (d < best.distance) best = {i, d, arcs_[i][k] + t * (arcs_[i][k + 1] - arcs_[i][k])};
+  }
+  return best;
+}
+
 Eigen::Vector3d BoundaryIndex::pointAt(int i, double s) const {
   const auto& arc = arcs_[i];
   const auto& points = loops_[i];
@@ -208,6 +221,10 @@ void stitchStrip(const std::vector<Eigen::Vector3d>& positions,
       const double onOuter = quality(b0, b1, l0, normals[l0]);
       const double onFront = quality(l1, l0, b0, normals[l0] + normals[l1]);
       advanceOuter = onOuter < 0.0 && onFront < 0.0 ? s[i + 1] <= t[j + 1] : onOuter >= onFront;
+      // Neither side may run ahead of the other by more than one vertex along the loop, or the
+      // zip ends in a fan.
+      if (advanceOuter && s[i + 1] > t[std::min(j + 2, n)] && onFront >= 0.0) advanceOuter = false;
+      if (!advanceOuter && t[j + 1] > s[std::min(i + 2, m)] && onOuter >= 0.0) advanceOuter = true;
     }
     if (advanceOuter) {
       out.push_back({b0, b1, l0});

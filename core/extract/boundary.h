@@ -36,6 +36,9 @@ class BoundaryIndex {
   /// Nearest point of any loop (or only of `onlyLoop` when ≥ 0) within `radius` of p.
   Hit nearest(const Eigen::Vector3d& p, double radius, int onlyLoop = -1) const;
 
+  /// Nearest point of loop i to p, by a scan of the loop's segments.
+  Hit nearestOnLoop(const Eigen::Vector3d& p, int i) const;
+
   int loopCount() const { return static_cast<int>(loops_.size()); }
   const std::vector<Eigen::Vector3d>& loop(int i) const { return loops_[i]; }
   double loopLength(int i) const { return arcs_[i].back(); }

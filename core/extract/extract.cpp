@@ -170,6 +170,16 @@ struct Assembly {
   std::vector<Eigen::Vector3d> positions;
   std::vector<int> component;
   std::vector<Triangle> triangles;
+  /// Vertices that make up the output's boundary loops (samples on the input boundary, or the
+  /// lattice fronts in BoundaryMode::Lattice); holes through other vertices are gaps to fill.
+  std::vector<bool> onBoundary;
+
+  int addVertex(const Eigen::Vector3d& p, int inputComponent) {
+    positions.push_back(p);
+    component.push_back(inputComponent);
+    onBoundary.push_back(false);
+    return static_cast<int>(positions.size()) - 1;
+  }
 };
 
 class LatticeExtractor {
@@ -273,9 +283,7 @@ class LatticeExtractor {
   enum class Walk { Found, LeftSurface, Blocked };
 
   int addVertex(Assembly& out, const Eigen::Vector3d& p, int face) {
-    out.positions.push_back(p);
-    out.component.push_back(component_[face]);
-    return static_cast<int>(out.positions.size()) - 1;
+    return out.addVertex(p, component_[face]);
   }
 
   std::pair<std::array<HH, 3>, std::array<FixedPoint, 3>> corners(FH f) const {
@@ -471,6 +479,44 @@ void removeVertices(Assembly& out, const std::vector<bool>& drop) {
   std::erase_if(out.triangles, [&](const Triangle& t) { return drop[t[0]] || drop[t[1]] || drop[t[2]]; });
 }
 
+/// Fills the stretches of a boundary loop that are not on the output boundary: the whole loop
+/// when none of it is, else each run of off-boundary vertices together with the boundary
+/// vertices on either side (a notch in the boundary).
+void fillGap(const std::vector<int>& loop, Assembly& out, std::vector<Triangle>& added,
+             ExtractionReport& report) {
+  const std::size_t n = loop.size();
+  const auto fill = [&](const std::vector<int>& polygon) {
+    if (polygon.size() < 3) return;
+    const std::size_t before = out.positions.size();
+    report.holeTriangles += fillHole(polygon, out.positions, added);
+    for (std::size_t v = before; v < out.positions.size(); ++v) {
+      out.component.push_back(out.component[polygon[0]]);
+      out.onBoundary.push_back(false);
+    }
+    ++report.holesFilled;
+  };
+  std::size_t first = n;
+  for (std::size_t k = 0; k < n && first == n; ++k)
+    if (out.onBoundary[loop[k]] && !out.onBoundary[loop[(k + 1) % n]]) first = k;
+  if (first == n) {
+    if (!out.onBoundary[loop[0]]) fill(loop);  // no boundary vertex at all: a hole
+    return;
+  }
+  // Runs start after a boundary vertex and end at the next boundary vertex.
+  std::vector<int> polygon;
+  for (std::size_t step = 0; step <= n; ++step) {
+    const int v = loop[(first + step) % n];
+    if (!polygon.empty() || (!out.onBoundary[v] && step > 0)) {
+      if (polygon.empty()) polygon.push_back(loop[(first + step + n - 1) % n]);
+      polygon.push_back(v);
+      if (out.onBoundary[v]) {
+        fill(polygon);
+        polygon.clear();
+      }
+    }
+  }
+}
+
 /// Steps 4b and 5: resolves every boundary loop of the lattice triangles: a front along an input
 /// boundary loop is stitched to that loop's samples (Follow) or left (Lattice); any other loop is
 /// a coverage gap and is filled.
@@ -529,23 +575,24 @@ void closeBoundaries(const TriMesh& mesh, const std::vector<int>& faceComponent,
     std::stable_sort(fronts[i].begin(), fronts[i].end(),
                      [&](int x, int y) { return loops[x].size() > loops[y].size(); });
     gaps.insert(gaps.end(), fronts[i].begin() + 1, fronts[i].end());
-    if (options.boundary != BoundaryMode::Follow) continue;
     const auto& front = loops[fronts[i][0]];
+    if (options.boundary != BoundaryMode::Follow) {
+      for (const int v : front) out.onBoundary[v] = true;
+      continue;
+    }
     std::vector<double> frontH;
     for (const int v : front) frontH.push_back(h[v]);
     const double spacing = median(frontH);
     const auto sampleArc = sampleBoundaryLoop(index, i, spacing, options.sharpBoundaryAngle);
     std::vector<int> samples;
     for (const double s : sampleArc) {
-      samples.push_back(static_cast<int>(out.positions.size()));
-      out.positions.push_back(index.pointAt(i, s));
-      out.component.push_back(inputLoopComponent[i]);
+      samples.push_back(out.addVertex(index.pointAt(i, s), inputLoopComponent[i]));
+      out.onBoundary[samples.back()] = true;
     }
     report.boundarySamples += static_cast<long long>(samples.size());
     std::vector<double> frontArc;
     for (const int v : front) {
-      const auto hit = index.nearest(out.positions[v], 1e300, i);
-      frontArc.push_back(hit.loop >= 0 ? hit.arc : (frontArc.empty() ? 0.0 : frontArc.back()));
+      frontArc.push_back(index.nearestOnLoop(out.positions[v], i).arc);
     }
     const std::size_t before = added.size();
     stitchStrip(out.positions, normals, samples, sampleArc, front, frontArc, index.loopLength(i),
@@ -553,14 +600,61 @@ void closeBoundaries(const TriMesh& mesh, const std::vector<int>& faceComponent,
     report.stripTriangles += static_cast<long long>(added.size() - before);
   }
   std::sort(gaps.begin(), gaps.end());
-  for (const int l : gaps) {
-    const int component = out.component[loops[l][0]];
-    const std::size_t before = out.positions.size();
-    report.holeTriangles += fillHole(loops[l], out.positions, added);
-    if (out.positions.size() > before) out.component.push_back(component);
-    ++report.holesFilled;
-  }
+  for (const int l : gaps) fillGap(loops[l], out, added, report);
   out.triangles.insert(out.triangles.end(), added.begin(), added.end());
+}
+
+/// Vertices whose triangles do not form a single fan: their link (the edge opposite the vertex
+/// in each triangle) is not one path or one cycle.
+std::vector<int> nonManifoldVertices(const std::vector<Triangle>& triangles, std::size_t vertexCount) {
+  std::vector<std::vector<std::array<int, 2>>> link(vertexCount);
+  for (const auto& t : triangles)
+    for (int k = 0; k < 3; ++k) link[t[k]].push_back({t[(k + 1) % 3], t[(k + 2) % 3]});
+  std::vector<int> bad;
+  for (std::size_t v = 0; v < vertexCount; ++v) {
+    const auto& edges = link[v];
+    if (edges.size() < 2) continue;
+    const auto next = [&](int a) {
+      for (const auto& e : edges)
+        if (e[0] == a) return e[1];
+      return -1;
+    };
+    // Start at a link vertex without an incoming edge (the fan's first edge) if there is one.
+    int start = edges[0][0], starts = 0;
+    for (const auto& e : edges) {
+      const bool incoming = std::any_of(edges.begin(), edges.end(), [&](auto& f) { return f[1] == e[0]; });
+      if (!incoming) start = e[0], ++starts;
+    }
+    std::size_t walked = 0;
+    for (int a = start; walked <= edges.size();) {
+      a = next(a);
+      if (a < 0) break;
+      ++walked;
+      if (a == start) break;
+    }
+    if (starts > 1 || walked != edges.size()) bad.push_back(static_cast<int>(v));
+  }
+  return bad;
+}
+
+/// Step 4c: what the previous steps left non-manifold is repaired locally: triangles that reuse
+/// a directed edge are dropped, the triangles around a vertex with several fans are removed, and
+/// the holes this leaves are filled (only their stretches off the output boundary).
+void repairNonManifold(Assembly& out, ExtractionReport& report) {
+  constexpr int kMaxPasses = 4;
+  for (int pass = 0; pass < kMaxPasses; ++pass) {
+    const std::size_t before = out.triangles.size();
+    dropDegenerateAndOverlapping(out.triangles, report);
+    const auto bad = nonManifoldVertices(out.triangles, out.positions.size());
+    if (bad.empty() && out.triangles.size() == before) return;
+    std::vector<bool> drop(out.positions.size(), false);
+    for (const int v : bad) drop[v] = true;
+    removeVertices(out, drop);
+    report.nonManifoldVertices += static_cast<long long>(bad.size());
+    std::vector<Triangle> added;
+    for (const auto& loop : traceBoundaryLoops(out.triangles)) fillGap(loop, out, added, report);
+    out.triangles.insert(out.triangles.end(), added.begin(), added.end());
+  }
 }
 
 /// Step 6: copies the faces of the components that received no triangle.
@@ -575,11 +669,7 @@ void keepUncoveredComponents(const TriMesh& mesh, const std::vector<int>& faceCo
     Triangle t;
     int k = 0;
     for (const auto v : mesh.fv_range(f)) {
-      if (copy[v.idx()] < 0) {
-        copy[v.idx()] = static_cast<int>(out.positions.size());
-        out.positions.push_back(toEigen(mesh.point(v)));
-        out.component.push_back(c);
-      }
+      if (copy[v.idx()] < 0) copy[v.idx()] = out.addVertex(toEigen(mesh.point(v)), c);
       t[k++] = copy[v.idx()];
     }
     out.triangles.push_back(t);
@@ -595,9 +685,18 @@ TriMesh buildMesh(const Assembly& out, ExtractionReport& report) {
   for (const auto& t : out.triangles)
     for (const int v : t)
       if (!handle[v].is_valid()) handle[v] = result.add_vertex(toOpenMesh(out.positions[v]));
-  for (const auto& t : out.triangles)
-    if (!result.add_face(handle[t[0]], handle[t[1]], handle[t[2]]).is_valid())
-      ++report.nonManifoldFacesDropped;
+  // OpenMesh refuses a face that would join two fans at a vertex in an order it cannot relink;
+  // the same face usually goes in once its neighbours are there, so refused faces are retried
+  // until no more can be added.
+  std::vector<Triangle> pending = out.triangles;
+  for (std::size_t before = pending.size() + 1; !pending.empty() && pending.size() < before;) {
+    before = pending.size();
+    std::vector<Triangle> refused;
+    for (const auto& t : pending)
+      if (!result.add_face(handle[t[0]], handle[t[1]], handle[t[2]]).is_valid()) refused.push_back(t);
+    pending = std::move(refused);
+  }
+  report.nonManifoldFacesDropped = static_cast<long long>(pending.size());
   // Vertices left without a face by refused faces are removed.
   if (report.nonManifoldFacesDropped > 0) {
     result.request_vertex_status();
@@ -652,6 +751,7 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     context.throwIfCanceled();
     dropDegenerateAndOverlapping(out.triangles, report);
     if (componentCount > 0) closeBoundaries(mesh, faceComponent, options, out, report);
+    repairNonManifold(out, report);
     keepUncoveredComponents(mesh, faceComponent, componentCount, out, report);
     result.triangles = buildMesh(out, report);
   }

@@ -74,7 +74,8 @@ struct ExtractionReport {
   long long holeTriangles = 0;         ///< triangles added to close them
   long long unmatchedBoundaryLoops = 0;  ///< input boundary loops without a single lattice front
   long long componentsKept = 0;        ///< input components too small for the lattice, copied
-  long long nonManifoldFacesDropped = 0;  ///< faces OpenMesh refused (would be non-manifold)
+  long long nonManifoldVertices = 0;   ///< vertices with several fans, re-triangulated locally
+  long long nonManifoldFacesDropped = 0;  ///< faces OpenMesh still refused (would be non-manifold)
   Timings timings;
 };
 
