@@ -219,8 +219,12 @@ FaceGeometry computeFaceGeometry(const TriMesh& mesh, const RosyField& field, co
   return g;
 }
 
-// Column layout of the solve: 2 real master coordinates per free vertex, then the free integer
-// scalars. Each wedge's two lattice coordinates are sparse rows over these columns.
+// Column layout of the solve: the Cartesian master coordinates (u, v) of every free vertex, then
+// the free integer scalars (lattice units). Each wedge's Cartesian coordinates p_w = M z_w are
+// two sparse rows over these columns: p_w = Rc^ρ p_master + M Σ S_k y_k with Rc the Cartesian
+// rotation. Cartesian masters keep u and v uncoupled away from the cut (the Dirichlet energy is
+// the same Laplacian for both), which keeps the Cholesky factor about 5 times sparser than
+// lattice-coordinate masters coupled by the Gram matrix.
 struct Unknowns {
   int realCount = 0;
   int integerCount = 0;
@@ -251,10 +255,15 @@ Unknowns buildUnknowns(const TriMesh& mesh, const CutMesh& cm, int n) {
   for (const int x : u.elimination.freeVariables) u.freeColumn[x] = u.realCount + u.integerCount++;
 
   u.wedgeRows.resize(cm.wedgeVertex.size());
+  const Eigen::Matrix2d basis = latticeBasis(n);
   std::array<std::map<int, double>, 2> acc;
-  const auto addScalar = [&](int row, int scalar, double coefficient) {
+  // p_w += M · e_latticeRow · coefficient · (integer scalar as a combination of free ones).
+  const auto addScalar = [&](int scalar, int latticeRow, double coefficient) {
     for (const auto& [variable, c] : u.elimination.expression[scalar])
-      acc[row][u.freeColumn[variable]] += coefficient * static_cast<double>(c);
+      for (int k = 0; k < 2; ++k)
+        if (basis(k, latticeRow) != 0.0)
+          acc[k][u.freeColumn[variable]] +=
+              basis(k, latticeRow) * coefficient * static_cast<double>(c);
   };
   for (std::size_t w = 0; w < cm.wedgeVertex.size(); ++w) {
     const int v = cm.wedgeVertex[w];
@@ -262,20 +271,24 @@ Unknowns buildUnknowns(const TriMesh& mesh, const CutMesh& cm, int n) {
     acc[0].clear();
     acc[1].clear();
     const Eigen::Matrix2i r = latticeRotation(n, transform.rotation);
-    for (int i = 0; i < 2; ++i) {
-      for (int j = 0; j < 2; ++j) {
-        if (r(i, j) == 0) continue;
-        if (cm.vertexPair[v] >= 0)
-          addScalar(i, 2 * cm.vertexPair[v] + j, r(i, j));
-        else if (u.vertexColumn[v] >= 0)
-          acc[i][u.vertexColumn[v] + j] += r(i, j);
-      }
-    }
-    for (const auto& term : transform.terms) {
-      const Eigen::Matrix2i s = term.sign * latticeRotation(n, term.rotation);
+    if (cm.vertexPair[v] >= 0) {
       for (int i = 0; i < 2; ++i)
         for (int j = 0; j < 2; ++j)
-          if (s(i, j) != 0) addScalar(i, 2 * term.pair + j, s(i, j));
+          if (r(i, j) != 0) addScalar(2 * cm.vertexPair[v] + j, i, r(i, j));
+    } else if (u.vertexColumn[v] >= 0) {
+      const double angle = 2.0 * M_PI * transform.rotation / n;
+      const auto clean = [](double x) { return std::abs(x) < 1e-12 ? 0.0 : x; };
+      const double c = clean(std::cos(angle)), s = clean(std::sin(angle));
+      const Eigen::Matrix2d rc = (Eigen::Matrix2d() << c, -s, s, c).finished();
+      for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j)
+          if (rc(i, j) != 0.0) acc[i][u.vertexColumn[v] + j] += rc(i, j);
+    }
+    for (const auto& term : transform.terms) {
+      const Eigen::Matrix2i m = term.sign * latticeRotation(n, term.rotation);
+      for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j)
+          if (m(i, j) != 0) addScalar(2 * term.pair + j, i, m(i, j));
     }
     for (int i = 0; i < 2; ++i)
       for (const auto& [column, c] : acc[i])
@@ -293,10 +306,8 @@ struct LeastSquares {
 };
 
 LeastSquares buildLeastSquares(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
-                               const FaceGeometry& geometry, const std::vector<double>& faceScale,
-                               int n) {
+                               const FaceGeometry& geometry, const std::vector<double>& faceScale) {
   const int nF = static_cast<int>(mesh.n_faces());
-  const Eigen::Matrix2d basis = latticeBasis(n);
   LeastSquares ls;
   ls.target = Eigen::VectorXd::Zero(4 * nF);
   ls.faceArea = Eigen::VectorXd::Zero(nF);
@@ -311,15 +322,10 @@ LeastSquares buildLeastSquares(const TriMesh& mesh, const CutMesh& cm, const Unk
     for (const auto h : mesh.fh_range(fh)) {
       const auto& rows = u.wedgeRows[cm.halfedgeWedge[h.idx()]];
       const Eigen::Vector2d& g = geometry.grad[f][c++];
-      // Cartesian (u, v) = basis · (a, b).
       for (int coordinate = 0; coordinate < 2; ++coordinate)
-        for (int latticeAxis = 0; latticeAxis < 2; ++latticeAxis) {
-          const double m = basis(coordinate, latticeAxis);
-          if (m == 0.0) continue;
-          for (const auto& [column, value] : rows[latticeAxis])
-            for (int axis = 0; axis < 2; ++axis)
-              triplets.emplace_back(4 * f + 2 * coordinate + axis, column, m * value * g[axis]);
-        }
+        for (const auto& [column, value] : rows[coordinate])
+          for (int axis = 0; axis < 2; ++axis)
+            triplets.emplace_back(4 * f + 2 * coordinate + axis, column, value * g[axis]);
     }
   }
   ls.gradient.resize(4 * nF, u.columns());
@@ -370,7 +376,10 @@ class EnergySystem {
   Eigen::VectorXd solve(const Eigen::VectorXd& faceWeight, const std::vector<bool>& fixed,
                         const Eigen::VectorXd& values) {
     const Eigen::VectorXd rowWeight = rowWeights(faceWeight);
-    SparseMatrix weighted = rowWeight.cwiseSqrt().asDiagonal() * ls_.gradient;
+    SparseMatrix weighted = ls_.gradient;  // rows scaled by sqrt(weight), pattern kept
+    for (int col = 0; col < weighted.outerSize(); ++col)
+      for (SparseMatrix::InnerIterator it(weighted, col); it; ++it)
+        it.valueRef() *= std::sqrt(rowWeight[it.row()]);
     SparseMatrix a = SparseMatrix(weighted.transpose()) * weighted;
     Eigen::VectorXd b = ls_.gradient.transpose() * rowWeight.cwiseProduct(ls_.target);
     const double regularization = 1e-14 * a.diagonal().cwiseAbs().maxCoeff();
@@ -458,30 +467,59 @@ double roundUnit(const std::vector<int>& unit, Eigen::VectorXd& x, const Eigen::
   return distance;
 }
 
-// Exact corner coordinates: real unknowns snapped to multiples of 2^-k, integers exact, every
-// corner computed with integer matrices, so that transitions hold bit-exactly.
+// Exact corner coordinates: the masters' lattice coordinates M⁻¹(u, v) snapped to multiples of
+// 2^-k, integer unknowns exact, every corner computed from them with the integer transforms, so
+// that the transitions hold bit-exactly (|values| < 2^52 quanta).
 struct SnappedCoordinates {
-  int exponent = 0;                                 // quantum 2^-exponent
-  std::vector<std::array<std::int64_t, 2>> wedge;   // #wedges, in units of the quantum
+  int exponent = 0;                                // quantum 2^-exponent
+  std::vector<std::array<std::int64_t, 2>> wedge;  // #wedges, in units of the quantum
 };
 
-SnappedCoordinates snapCoordinates(const Unknowns& u, const Eigen::VectorXd& x) {
+// Value of integer scalar `scalar` (2·pair + j) from the rounded free unknowns in x.
+std::int64_t integerValue(const Unknowns& u, const Eigen::VectorXd& x, int scalar) {
+  std::int64_t value = 0;
+  for (const auto& [variable, c] : u.elimination.expression[scalar])
+    value += c * std::llround(x[u.freeColumn[variable]]);
+  return value;
+}
+
+SnappedCoordinates snapCoordinates(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
+                                   const Eigen::VectorXd& x, int n) {
+  const Eigen::Matrix2d toLattice = latticeBasis(n).inverse();
+  std::vector<Eigen::Vector2d> master(mesh.n_vertices(), Eigen::Vector2d::Zero());
   double largest = 1.0;
-  for (int j = 0; j < u.realCount; ++j) largest = std::max(largest, std::abs(x[j]));
+  for (const auto vh : mesh.vertices()) {
+    const int column = u.vertexColumn[vh.idx()];
+    if (column < 0) continue;
+    master[vh.idx()] = toLattice * x.segment<2>(column);
+    largest = std::max(largest, master[vh.idx()].cwiseAbs().maxCoeff());
+  }
+  std::vector<std::int64_t> pairValue(2 * cm.pairCount);
+  for (int scalar = 0; scalar < 2 * cm.pairCount; ++scalar) {
+    pairValue[scalar] = integerValue(u, x, scalar);
+    largest = std::max(largest, std::abs(static_cast<double>(pairValue[scalar])));
+  }
   SnappedCoordinates s;
   s.exponent = std::min(30, 48 - static_cast<int>(std::ceil(std::log2(largest))));
   const double scale = std::ldexp(1.0, s.exponent);
-  std::vector<std::int64_t> quantized(x.size());
-  for (Eigen::Index j = 0; j < x.size(); ++j)
-    quantized[j] = j < u.realCount ? std::llround(x[j] * scale)
-                                   : std::llround(x[j]) * (std::int64_t{1} << s.exponent);
-  s.wedge.resize(u.wedgeRows.size());
-  for (std::size_t w = 0; w < u.wedgeRows.size(); ++w)
-    for (int i = 0; i < 2; ++i) {
-      std::int64_t value = 0;
-      for (const auto& [column, c] : u.wedgeRows[w][i]) value += std::llround(c) * quantized[column];
-      s.wedge[w][i] = value;
+  for (auto& value : pairValue) value *= std::int64_t{1} << s.exponent;
+  s.wedge.resize(cm.wedgeVertex.size());
+  for (std::size_t w = 0; w < cm.wedgeVertex.size(); ++w) {
+    const int v = cm.wedgeVertex[w];
+    const auto& transform = cm.wedgeTransform[w];
+    Eigen::Matrix<std::int64_t, 2, 1> z(0, 0);
+    if (cm.vertexPair[v] >= 0)
+      z = {pairValue[2 * cm.vertexPair[v]], pairValue[2 * cm.vertexPair[v] + 1]};
+    else if (u.vertexColumn[v] >= 0)
+      z = {std::llround(master[v].x() * scale), std::llround(master[v].y() * scale)};
+    z = latticeRotation(n, transform.rotation).cast<std::int64_t>() * z;
+    for (const auto& term : transform.terms) {
+      const Eigen::Matrix<std::int64_t, 2, 1> y(pairValue[2 * term.pair],
+                                                pairValue[2 * term.pair + 1]);
+      z += (term.sign * latticeRotation(n, term.rotation)).cast<std::int64_t>() * y;
     }
+    s.wedge[w] = {z.x(), z.y()};
+  }
   return s;
 }
 
@@ -615,7 +653,7 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
   {
     ScopedTimer timer(result.timings, "assembly");
     geometry = computeFaceGeometry(mesh, field, cut);
-    ls = buildLeastSquares(mesh, cm, unknowns, geometry, faceScale, n);
+    ls = buildLeastSquares(mesh, cm, unknowns, geometry, faceScale);
   }
   context.report("parameterization", 0.2);
 
@@ -670,7 +708,7 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
   context.report("parameterization", 0.7);
 
   // Fold-overs: stiffen distorted triangles (weight += min(5·relative misfit, 20)) and re-solve.
-  SnappedCoordinates snapped = snapCoordinates(unknowns, x);
+  SnappedCoordinates snapped = snapCoordinates(mesh, cm, unknowns, x, n);
   std::vector<bool> flippedFaces;
   Orientation orientation = countOrientation(mesh, cm, snapped, &flippedFaces);
   result.flippedBeforeStiffening = orientation.flipped;
@@ -687,7 +725,7 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
       }
       x = system.solve(faceWeight, fixed, x);
       ++result.stiffeningIterations;
-      snapped = snapCoordinates(unknowns, x);
+      snapped = snapCoordinates(mesh, cm, unknowns, x, n);
       orientation = countOrientation(mesh, cm, snapped, &flippedFaces);
     }
   }
@@ -714,12 +752,8 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
     if (pair < 0) continue;
     auto& transition = result.edgeTransition[eh.idx()];
     transition.rotation = cut.combedMatching[eh.idx()];
-    for (int j = 0; j < 2; ++j) {
-      double value = 0.0;
-      for (const auto& [variable, c] : unknowns.elimination.expression[2 * pair + j])
-        value += static_cast<double>(c) * x[unknowns.freeColumn[variable]];
-      transition.translation[j] = static_cast<int>(std::llround(value));
-    }
+    for (int j = 0; j < 2; ++j)
+      transition.translation[j] = static_cast<int>(integerValue(unknowns, x, 2 * pair + j));
   }
   for (const auto& s : field.singularities) {
     ParamSingularity ps;
