@@ -17,5 +17,8 @@ int runConvert(int argc, char** argv);
 int runMetrics(int argc, char** argv);
 /// `hexcover remesh IN -o OUT [...]`: the remeshing pipeline on one file (remesh_command.cpp).
 int runRemesh(int argc, char** argv);
+/// `hexcover field MESH [--rosy 6|4] [--d-sing X] [-o FIELD.ply]`: the N-RoSy field and its
+/// singularities as one JSON object (field_command.cpp).
+int runField(int argc, char** argv);
 
 }  // namespace hexcover::cli

@@ -32,6 +32,8 @@ constexpr Subcommand kSubcommands[] = {
      "remesh IN -o OUT [--edge-length h | --vertices K] [--rosy 6|4] [--sizing uniform|curvature] "
      "[--hex OUT_HEX] [--textured OUT_OBJ] [--metrics METRICS.json] [--quiet]",
      runRemesh},
+    {"field", "field MESH [--rosy 6|4] [--d-sing X] [--no-clustering] [--free-boundary] [-o FIELD.ply]",
+     runField},
 };
 
 int printUsage(std::ostream& out) {
