@@ -1,10 +1,9 @@
 // The page: choose a mesh and options, upload, follow the job, then view and download the result.
 
-import { ApiError, cancelJob, fetchResult, getMetrics, resultUrl, submitJob, waitForJob } from './api.js';
+import { ApiError, cancelJob, fetchResult, getMetrics, submitJob, waitForJob } from './api.js';
 import { parseMesh, parseObj } from './mesh_formats.js';
 import { MeshViewer } from './viewer.js';
 
-const kFormats = ['obj', 'ply', 'off', 'stl', 'glb'];
 const kResultMeshes = [
   ['triangles', 'remesh'],
   ['hexagons', 'hexagonal dual'],
@@ -110,7 +109,7 @@ async function runJob(event) {
     const job = await waitForJob(accepted.id, showJob);
     $('cancel').hidden = true;
     if (job.state === 'succeeded') {
-      await showResults(job.id, Number(options.rosy));
+      await showResults(job, Number(job.options?.rosy ?? options.rosy));
       setStatus(`Job ${job.id}: succeeded.`);
     } else if (job.state === 'failed') {
       setStatus(`Job ${job.id} failed: ${describeError(new ApiError(job.error ?? { title: 'failed' }))}`, true);
@@ -161,38 +160,45 @@ function showMetrics(metrics) {
   }
 }
 
-function showDownloads(id) {
+/** One row per result mesh with a link per format, from the job's `links.results`. */
+function showDownloads(job) {
   const body = $('downloads').tBodies[0];
   body.replaceChildren();
   for (const [mesh, label] of kResultMeshes) {
+    const results = (job.links?.results ?? []).filter((r) => r.mesh === mesh);
+    if (!results.length) continue;
     const row = body.insertRow();
     row.insertCell().textContent = label;
     const links = row.insertCell();
-    for (const format of kFormats) {
+    for (const result of results) {
       const link = document.createElement('a');
-      link.href = resultUrl(id, format, mesh);
-      link.download = `${id}-${mesh}.${format}`;
-      link.textContent = format;
+      link.href = result.href;
+      link.download = `${job.id}-${mesh}.${result.format}`;
+      link.textContent = result.format;
+      if (result.bytes != null) link.title = `${(result.bytes / 1024).toFixed(0)} KiB`;
       links.append(link);
     }
   }
 }
 
-async function showResults(id, rosy) {
+async function showResults(job, rosy) {
+  const { id } = job;
   const text = (buffer) => new TextDecoder().decode(buffer);
+  const hasObj = (mesh) => (job.links?.results ?? []).some((r) => r.mesh === mesh && r.format === 'obj');
+  const objOf = (mesh) => (hasObj(mesh) ? fetchResult(id, 'obj', mesh) : null);
   const [metrics, triangles, hexagons, textured] = await Promise.all([
     getMetrics(id),
     fetchResult(id, 'obj', 'triangles'),
-    rosy === 6 ? fetchResult(id, 'obj', 'hexagons') : null,
-    fetchResult(id, 'obj', 'textured'),
+    objOf('hexagons'),
+    objOf('textured'),
   ]);
   showMetrics(metrics);
-  showDownloads(id);
+  showDownloads(job);
   const irregular = viewer.setRemesh(parseObj(text(triangles)), rosy);
   $('count-below').textContent = `valence ≤${rosy - 1}: ${irregular.below.length}`;
   $('count-above').textContent = `valence ≥${rosy + 1}: ${irregular.above.length}`;
   if (hexagons) viewer.setDual(parseObj(text(hexagons)));
-  viewer.setTextured(parseObj(text(textured)));
+  if (textured) viewer.setTextured(parseObj(text(textured)));
   $('results').hidden = false;
   document.body.dataset.jobId = id;
   document.body.dataset.state = 'shown';
