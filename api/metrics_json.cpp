@@ -30,10 +30,12 @@ nlohmann::json toJson(const QualityReport& report) {
   json["mean_dist_pct"] = d ? nlohmann::json(d->meanPct) : null;
   json["rms_dist_pct"] = d ? nlohmann::json(d->rmsPct) : null;
   json["result_to_reference"] =
-      d ? oneSided(d->resultToReferenceMaxPct, d->resultToReferenceMeanPct, d->resultToReferenceRmsPct)
+      d ? oneSided(d->resultToReferenceMaxPct, d->resultToReferenceMeanPct,
+                   d->resultToReferenceRmsPct)
         : null;
   json["reference_to_result"] =
-      d ? oneSided(d->referenceToResultMaxPct, d->referenceToResultMeanPct, d->referenceToResultRmsPct)
+      d ? oneSided(d->referenceToResultMaxPct, d->referenceToResultMeanPct,
+                   d->referenceToResultRmsPct)
         : null;
   json["reference_diagonal"] = d ? nlohmann::json(d->referenceDiagonal) : null;
   json["distance_samples"] = d ? nlohmann::json(d->samples) : null;

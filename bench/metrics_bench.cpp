@@ -8,6 +8,8 @@
 // per step ("metrics_bench {...}"), the distance figures, and a table for people.
 // Usage: bench_metrics [--runs R] [--threads T]
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -16,7 +18,6 @@
 #include <ctime>
 #include <filesystem>
 #include <functional>
-#include <unistd.h>
 #include <string>
 #include <vector>
 
@@ -46,7 +47,8 @@ Step timeRuns(std::string name, int runs, const std::function<void()>& step) {
     const std::clock_t cpuStart = std::clock();
     step();
     out.cpu.push_back(static_cast<double>(std::clock() - cpuStart) / CLOCKS_PER_SEC);
-    out.wall.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    out.wall.push_back(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
   return out;
 }
@@ -85,12 +87,13 @@ int main(int argc, char** argv) {
   const std::filesystem::path bunnyPath =
       std::filesystem::path(HEXCOVER_SHARED_MESHES) / "clean/stanford-bunny.obj";
   if (!std::filesystem::exists(bunnyPath)) {
-    std::fprintf(stderr, "bench_metrics: %s not found (needs ../shared/meshes)\n", bunnyPath.c_str());
+    std::fprintf(stderr, "bench_metrics: %s not found (needs ../shared/meshes)\n",
+                 bunnyPath.c_str());
     return 1;
   }
   const std::filesystem::path copyPath =
-      std::filesystem::temp_directory_path() / ("hexcover_bench_bunny_displaced_" +
-                                                std::to_string(::getpid()) + ".obj");
+      std::filesystem::temp_directory_path() /
+      ("hexcover_bench_bunny_displaced_" + std::to_string(::getpid()) + ".obj");
   writeMesh(toPolygonSoup(displaced(repairMesh(readMesh(bunnyPath)).mesh)), copyPath);
 
   std::vector<Step> steps;
@@ -119,16 +122,18 @@ int main(int argc, char** argv) {
   for (const auto& step : steps) {
     total += median(step.wall);
     totalCpu += median(step.cpu);
-    std::printf("metrics_bench {\"step\": \"%s\", \"median_s\": %.4f, \"median_cpu_s\": %.4f, "
-                "\"runs\": %d}\n",
-                step.name.c_str(), median(step.wall), median(step.cpu), runs);
+    std::printf(
+        "metrics_bench {\"step\": \"%s\", \"median_s\": %.4f, \"median_cpu_s\": %.4f, "
+        "\"runs\": %d}\n",
+        step.name.c_str(), median(step.wall), median(step.cpu), runs);
   }
   const auto& d = *report.distance;
   std::printf(
       "metrics_bench {\"step\": \"total\", \"median_s\": %.4f, \"median_cpu_s\": %.4f, "
       "\"faces\": [%d, %zu], "
       "\"threads\": %d, \"hausdorff_pct\": %.5f, \"hausdorff_upper_bound_pct\": %.5f, "
-      "\"certified\": %s, \"mean_dist_pct\": %.5f, \"rms_dist_pct\": %.5f, \"distance_samples\": %zu}\n",
+      "\"certified\": %s, \"mean_dist_pct\": %.5f, \"rms_dist_pct\": %.5f, \"distance_samples\": "
+      "%zu}\n",
       total, totalCpu, report.faces, bunny.n_faces(), options.distance.threads, d.hausdorffPct,
       d.hausdorffUpperBoundPct, d.hausdorffCertified ? "true" : "false", d.meanPct, d.rmsPct,
       d.samples);
@@ -139,9 +144,10 @@ int main(int argc, char** argv) {
   std::printf("%-28s %10.4f\n", "  metrics: distance", median(distance));
   std::printf("%-28s %10.4f\n", "  metrics: shape + topology", median(shape));
   std::printf("%-28s %10.4f %10.4f\n", "total", total, totalCpu);
-  std::printf("\nHausdorff %.4f%% (bound %.4f%%, %s), mean %.4f%%, RMS %.4f%% of the diagonal; "
-              "%zu distance queries\n",
-              d.hausdorffPct, d.hausdorffUpperBoundPct, d.hausdorffCertified ? "certified" : "not certified",
-              d.meanPct, d.rmsPct, d.samples);
+  std::printf(
+      "\nHausdorff %.4f%% (bound %.4f%%, %s), mean %.4f%%, RMS %.4f%% of the diagonal; "
+      "%zu distance queries\n",
+      d.hausdorffPct, d.hausdorffUpperBoundPct,
+      d.hausdorffCertified ? "certified" : "not certified", d.meanPct, d.rmsPct, d.samples);
   return 0;
 }

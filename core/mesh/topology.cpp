@@ -11,7 +11,9 @@ namespace {
 /// Union–find over vertex indices with path halving.
 class DisjointSets {
  public:
-  explicit DisjointSets(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
+  explicit DisjointSets(std::size_t n) : parent_(n) {
+    std::iota(parent_.begin(), parent_.end(), 0);
+  }
   int find(int i) {
     while (parent_[i] != i) i = parent_[i] = parent_[parent_[i]];
     return i;
@@ -41,7 +43,8 @@ bool MeshTopology::sameAs(const MeshTopology& other) const {
   if (components != other.components) return false;
   const auto signature = [](const MeshTopology& t) {
     std::vector<std::tuple<long long, std::size_t, int>> s;
-    for (const auto& c : t.perComponent) s.emplace_back(c.eulerCharacteristic, c.boundaryLoops, c.genus);
+    for (const auto& c : t.perComponent)
+      s.emplace_back(c.eulerCharacteristic, c.boundaryLoops, c.genus);
     std::sort(s.begin(), s.end());
     return s;
   };
@@ -107,8 +110,11 @@ MeshTopology computeTopology(const TriMesh& mesh) {
   for (auto& c : topology.perComponent) {
     c.eulerCharacteristic = static_cast<long long>(c.vertices) - static_cast<long long>(c.edges) +
                             static_cast<long long>(c.faces);
-    const long long twiceGenus = 2 - c.eulerCharacteristic - static_cast<long long>(c.boundaryLoops);
-    c.genus = c.manifold && twiceGenus >= 0 && twiceGenus % 2 == 0 ? static_cast<int>(twiceGenus / 2) : -1;
+    const long long twiceGenus =
+        2 - c.eulerCharacteristic - static_cast<long long>(c.boundaryLoops);
+    c.genus = c.manifold && twiceGenus >= 0 && twiceGenus % 2 == 0
+                  ? static_cast<int>(twiceGenus / 2)
+                  : -1;
     topology.boundaryLoops += static_cast<int>(c.boundaryLoops);
     topology.eulerCharacteristic += static_cast<int>(c.eulerCharacteristic);
     topology.manifold = topology.manifold && c.manifold;

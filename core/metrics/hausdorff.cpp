@@ -3,7 +3,6 @@
 #include <embree3/rtcore.h>
 
 #include <Eigen/Geometry>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -49,9 +48,10 @@ Vec3 closestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const V
       return Vec3(s + u * st);
     };
     std::array<Vec3, 3> candidates{onSegment(a, b), onSegment(b, c), onSegment(c, a)};
-    return *std::min_element(candidates.begin(), candidates.end(), [&](const Vec3& x, const Vec3& y) {
-      return (x - p).squaredNorm() < (y - p).squaredNorm();
-    });
+    return *std::min_element(candidates.begin(), candidates.end(),
+                             [&](const Vec3& x, const Vec3& y) {
+                               return (x - p).squaredNorm() < (y - p).squaredNorm();
+                             });
   }
   return a + (vb / denom) * ab + (vc / denom) * ac;
 }
@@ -121,12 +121,12 @@ struct ClosestPointQuery::Impl {
     if (!device) throw Error(ErrorCode::NumericalFailure, "Embree: cannot create a device");
     scene = rtcNewScene(device);
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-        mesh.positions.size()));
-    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
-        mesh.triangles.size()));
+    auto* vertices = static_cast<float*>(
+        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                3 * sizeof(float), mesh.positions.size()));
+    auto* indices = static_cast<unsigned*>(
+        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                3 * sizeof(unsigned), mesh.triangles.size()));
     if (!vertices || !indices) {
       rtcReleaseGeometry(geometry);
       release();
@@ -195,9 +195,8 @@ struct ClosestPointQuery::Impl {
     query.z = static_cast<float>(p.z());
     query.time = 0.0f;
     // The float query point is off by up to an ulp per coordinate; the slack covers it too.
-    query.radius = std::isfinite(search.best)
-                       ? static_cast<float>(search.best + slack + slack)
-                       : std::numeric_limits<float>::infinity();
+    query.radius = std::isfinite(search.best) ? static_cast<float>(search.best + slack + slack)
+                                              : std::numeric_limits<float>::infinity();
     RTCPointQueryContext context;
     rtcInitPointQueryContext(&context);
     rtcPointQuery(scene, &query, &context, &Impl::visitTriangle, &search);
@@ -207,7 +206,8 @@ struct ClosestPointQuery::Impl {
   }
 };
 
-ClosestPointQuery::ClosestPointQuery(const TriMesh& target) : impl_(std::make_unique<Impl>(target)) {}
+ClosestPointQuery::ClosestPointQuery(const TriMesh& target)
+    : impl_(std::make_unique<Impl>(target)) {}
 ClosestPointQuery::~ClosestPointQuery() = default;
 
 ClosestPointQuery::Result ClosestPointQuery::closest(const Vec3& p, int hintFace) const {
@@ -227,7 +227,8 @@ void DistanceOptions::validate() const {
                 "relativeTolerance must be in (0, 1), got " + std::to_string(relativeTolerance));
   if (maxSamples == 0) throw Error(ErrorCode::InvalidOption, "maxSamples must be positive");
   if (threads < 1)
-    throw Error(ErrorCode::InvalidOption, "threads must be at least 1, got " + std::to_string(threads));
+    throw Error(ErrorCode::InvalidOption,
+                "threads must be at least 1, got " + std::to_string(threads));
 }
 
 namespace {
@@ -244,7 +245,8 @@ struct Cell {
 /// Samples of the surface `from` with their exact distance to `to`, and the cell partition.
 class SurfaceSampler {
  public:
-  SurfaceSampler(const TriangleArrays& from, const ClosestPointQuery& to, const DistanceOptions& options)
+  SurfaceSampler(const TriangleArrays& from, const ClosestPointQuery& to,
+                 const DistanceOptions& options)
       : to_(to), options_(options) {
     // Vertex samples keep the vertex index as sample id.
     points_ = from.positions;
@@ -264,7 +266,8 @@ class SurfaceSampler {
       cells_.push_back({t, addSample((a + b + c) / 3.0, face_[t[0]]), area});
     }
     queryFrom(firstNew);
-    parallelFor(cells_.size(), options_.threads, [&](std::size_t i) { cells_[i].bound = bound(cells_[i]); });
+    parallelFor(cells_.size(), options_.threads,
+                [&](std::size_t i) { cells_[i].bound = bound(cells_[i]); });
   }
 
   /// Splits cells (area-proportional sampling, then bound-driven refinement) until the
@@ -274,10 +277,12 @@ class SurfaceSampler {
       const double threshold = largest() * (1.0 + options_.relativeTolerance) + absoluteTolerance;
       std::vector<int> selected;
       for (std::size_t i = 0; i < cells_.size(); ++i)
-        if (cells_[i].area > maxCellArea || cells_[i].bound > threshold) selected.push_back(static_cast<int>(i));
+        if (cells_[i].area > maxCellArea || cells_[i].bound > threshold)
+          selected.push_back(static_cast<int>(i));
       if (selected.empty()) return;
       // Each split adds at most 3 midpoints and 4 centroids.
-      const std::size_t room = points_.size() < options_.maxSamples ? options_.maxSamples - points_.size() : 0;
+      const std::size_t room =
+          points_.size() < options_.maxSamples ? options_.maxSamples - points_.size() : 0;
       if (7 * selected.size() > room) {
         std::stable_sort(selected.begin(), selected.end(),
                          [&](int x, int y) { return cells_[x].bound > cells_[y].bound; });
@@ -293,7 +298,8 @@ class SurfaceSampler {
     OneSidedDistance out;
     int farthest = -1;
     for (std::size_t i = 0; i < points_.size(); ++i)
-      if (face_[i] >= 0 && (farthest < 0 || distance_[i] > distance_[farthest])) farthest = static_cast<int>(i);
+      if (face_[i] >= 0 && (farthest < 0 || distance_[i] > distance_[farthest]))
+        farthest = static_cast<int>(i);
     out.max = distance_[farthest];
     out.farthestPoint = points_[farthest];
     out.maxUpperBound = out.max;
@@ -356,7 +362,8 @@ class SurfaceSampler {
     double best = std::numeric_limits<double>::infinity();
     for (int k = 0; k < 4; ++k) {
       const int t = candidates[k];
-      if (std::find(candidates.begin(), candidates.begin() + k, t) != candidates.begin() + k) continue;
+      if (std::find(candidates.begin(), candidates.begin() + k, t) != candidates.begin() + k)
+        continue;
       double worst = 0.0;
       for (const int c : cell.corners) {
         worst = std::max(worst, face_[c] == t ? distance_[c] : to_.distanceToFace(points_[c], t));
@@ -368,7 +375,8 @@ class SurfaceSampler {
   }
 
   int midpoint(int a, int b) {
-    const auto key = (static_cast<std::uint64_t>(std::min(a, b)) << 32) | static_cast<std::uint32_t>(std::max(a, b));
+    const auto key = (static_cast<std::uint64_t>(std::min(a, b)) << 32) |
+                     static_cast<std::uint32_t>(std::max(a, b));
     const auto [it, inserted] = midpoints_.try_emplace(key, 0);
     if (inserted) it->second = addSample(0.5 * (points_[a] + points_[b]), face_[a]);
     return it->second;
@@ -383,11 +391,12 @@ class SurfaceSampler {
       const Cell parent = cells_[i];
       const auto [a, b, c] = parent.corners;
       const int ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
-      const std::array<std::array<int, 3>, 4> children{{{a, ab, ca}, {ab, b, bc}, {ca, bc, c}, {ab, bc, ca}}};
+      const std::array<std::array<int, 3>, 4> children{
+          {{a, ab, ca}, {ab, b, bc}, {ca, bc, c}, {ab, bc, ca}}};
       for (int k = 0; k < 4; ++k) {
         const auto& t = children[k];
-        const int centroid =
-            addSample((points_[t[0]] + points_[t[1]] + points_[t[2]]) / 3.0, face_[parent.centroid]);
+        const int centroid = addSample((points_[t[0]] + points_[t[1]] + points_[t[2]]) / 3.0,
+                                       face_[parent.centroid]);
         const Cell child{t, centroid, parent.area / 4.0};
         if (k == 0) {
           cells_[i] = child;
@@ -449,7 +458,8 @@ double TwoSidedDistance::rms() const {
              : 0.0;
 }
 
-TwoSidedDistance twoSidedDistance(const TriMesh& a, const TriMesh& b, const DistanceOptions& options) {
+TwoSidedDistance twoSidedDistance(const TriMesh& a, const TriMesh& b,
+                                  const DistanceOptions& options) {
   options.validate();
   const ClosestPointQuery toA(a), toB(b);
   return {oneSidedDistance(a, toB, options), oneSidedDistance(b, toA, options)};

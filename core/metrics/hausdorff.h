@@ -69,14 +69,14 @@ class ClosestPointQuery {
 
 /// Distances from the points of one surface to another, in the meshes' length unit.
 struct OneSidedDistance {
-  double max = 0.0;         ///< largest sampled distance: a lower bound of sup d
+  double max = 0.0;            ///< largest sampled distance: a lower bound of sup d
   double maxUpperBound = 0.0;  ///< certified upper bound of sup d (≥ max)
-  bool certified = false;   ///< maxUpperBound ≤ (1 + relativeTolerance)·max (or both ~0)
-  double mean = 0.0;        ///< area-weighted mean ∫ d dA / ∫ dA
-  double rms = 0.0;         ///< sqrt(∫ d² dA / ∫ dA)
-  double area = 0.0;        ///< area of the sampled surface
+  bool certified = false;      ///< maxUpperBound ≤ (1 + relativeTolerance)·max (or both ~0)
+  double mean = 0.0;           ///< area-weighted mean ∫ d dA / ∫ dA
+  double rms = 0.0;            ///< sqrt(∫ d² dA / ∫ dA)
+  double area = 0.0;           ///< area of the sampled surface
   Eigen::Vector3d farthestPoint = Eigen::Vector3d::Zero();  ///< where `max` is attained
-  std::size_t samples = 0;  ///< distance queries made
+  std::size_t samples = 0;                                  ///< distance queries made
   int refinementRounds = 0;
 };
 

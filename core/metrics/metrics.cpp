@@ -48,7 +48,8 @@ void measureShape(const TriMesh& mesh, QualityReport& report) {
   std::size_t below30 = 0, above90 = 0;
   for (const auto fh : mesh.faces()) {
     const auto h = fh.halfedge();
-    const std::array<Eigen::Vector3d, 3> p{toEigen(mesh.point(h.from())), toEigen(mesh.point(h.to())),
+    const std::array<Eigen::Vector3d, 3> p{toEigen(mesh.point(h.from())),
+                                           toEigen(mesh.point(h.to())),
                                            toEigen(mesh.point(h.next().to()))};
     double smallest = 180.0, perimeter = 0.0, longest = 0.0;
     for (int i = 0; i < 3; ++i) {
@@ -142,7 +143,8 @@ QualityReport measureQuality(const TriMesh& result, const TriMesh* reference,
   {
     ScopedTimer timer(report.timings, "topology");
     report.topology = computeTopology(result);
-    if (reference) report.topologyMatchesReference = report.topology.sameAs(computeTopology(*reference));
+    if (reference)
+      report.topologyMatchesReference = report.topology.sameAs(computeTopology(*reference));
   }
   if (reference) {
     ScopedTimer timer(report.timings, "distance");

@@ -26,9 +26,9 @@ struct MetricsOptions {
 /// diagonal. "Two-sided" combines both directions (Hausdorff: max; mean and RMS: area-weighted
 /// over both surfaces, see TwoSidedDistance).
 struct DistanceReport {
-  double hausdorffPct = 0.0;             ///< sampled two-sided Hausdorff distance
-  double hausdorffUpperBoundPct = 0.0;   ///< certified upper bound of it
-  bool hausdorffCertified = false;       ///< both one-sided maxima met the tolerance
+  double hausdorffPct = 0.0;            ///< sampled two-sided Hausdorff distance
+  double hausdorffUpperBoundPct = 0.0;  ///< certified upper bound of it
+  bool hausdorffCertified = false;      ///< both one-sided maxima met the tolerance
   double meanPct = 0.0;
   double rmsPct = 0.0;
   double resultToReferenceMaxPct = 0.0;  ///< sup over the result of the distance to the reference
@@ -37,8 +37,8 @@ struct DistanceReport {
   double referenceToResultMaxPct = 0.0;  ///< sup over the reference of the distance to the result
   double referenceToResultMeanPct = 0.0;
   double referenceToResultRmsPct = 0.0;
-  double referenceDiagonal = 0.0;        ///< the unit: 100% (mesh length unit)
-  std::size_t samples = 0;               ///< distance queries, both directions
+  double referenceDiagonal = 0.0;  ///< the unit: 100% (mesh length unit)
+  std::size_t samples = 0;         ///< distance queries, both directions
 };
 
 /// Everything measureQuality reports about a result mesh.
@@ -50,10 +50,10 @@ struct QualityReport {
   double angleMin = 0.0;
   double angleMax = 0.0;
   double angleMean = 0.0;
-  double angleSd = 0.0;            ///< population standard deviation
-  double anglesBelow30Pct = 0.0;   ///< percent of corners < 30°
-  double anglesAbove90Pct = 0.0;   ///< percent of corners > 90°
-  double minAngleMean = 0.0;       ///< mean over triangles of the smallest corner angle
+  double angleSd = 0.0;           ///< population standard deviation
+  double anglesBelow30Pct = 0.0;  ///< percent of corners < 30°
+  double anglesAbove90Pct = 0.0;  ///< percent of corners > 90°
+  double minAngleMean = 0.0;      ///< mean over triangles of the smallest corner angle
 
   /// Triangle quality Q = 6·A / (√3·p·L_max) (A area, p half the perimeter, L_max longest edge;
   /// Frey–Borouchaki): 1 for an equilateral triangle, 0 for a degenerate one.

@@ -1,24 +1,37 @@
 // JSON form of the quality report: every documented key present, nulls without a reference.
 
+#include "api/metrics_json.h"
+
 #include <gtest/gtest.h>
 
-#include "api/metrics_json.h"
 #include "core/mesh/primitives.h"
 
 namespace hexcover {
 namespace {
 
-const char* const kAlwaysNumbers[] = {
-    "vertices",       "faces",          "angle_min",          "angle_max",
-    "angle_mean",     "angle_sd",       "angles_below_30_pct", "angles_above_90_pct",
-    "min_angle_mean", "quality_min",    "quality_mean",       "irregular_interior",
-    "irregular_boundary", "edge_length_mean", "edge_length_cv", "components",
-    "boundary_loops", "euler_characteristic", "isolated_vertices"};
-const char* const kReferenceKeys[] = {"hausdorff_pct", "hausdorff_upper_bound_pct",
-                                      "hausdorff_certified", "mean_dist_pct", "rms_dist_pct",
-                                      "result_to_reference", "reference_to_result",
-                                      "reference_diagonal", "distance_samples",
-                                      "topology_matches_reference"};
+const char* const kAlwaysNumbers[] = {"vertices",
+                                      "faces",
+                                      "angle_min",
+                                      "angle_max",
+                                      "angle_mean",
+                                      "angle_sd",
+                                      "angles_below_30_pct",
+                                      "angles_above_90_pct",
+                                      "min_angle_mean",
+                                      "quality_min",
+                                      "quality_mean",
+                                      "irregular_interior",
+                                      "irregular_boundary",
+                                      "edge_length_mean",
+                                      "edge_length_cv",
+                                      "components",
+                                      "boundary_loops",
+                                      "euler_characteristic",
+                                      "isolated_vertices"};
+const char* const kReferenceKeys[] = {
+    "hausdorff_pct",    "hausdorff_upper_bound_pct", "hausdorff_certified", "mean_dist_pct",
+    "rms_dist_pct",     "result_to_reference",       "reference_to_result", "reference_diagonal",
+    "distance_samples", "topology_matches_reference"};
 
 TEST(MetricsJson, WithoutReferenceDistanceKeysAreNull) {
   const nlohmann::json json = toJson(measureQuality(makeTorus(2.0, 0.5, 20, 10)));

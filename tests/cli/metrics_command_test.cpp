@@ -1,12 +1,12 @@
 // `hexcover metrics`: runs the real binary on generated files and checks the JSON and exit codes.
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include <array>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "core/mesh/io.h"
@@ -77,7 +77,11 @@ TEST_F(MetricsCommand, ExitCodesSeparateBadInputFromBadUsage) {
   EXPECT_EQ(runCli("metrics " + sphere_.string() + " --bogus").status, 2);
   EXPECT_EQ(runCli("metrics " + (dir_ / "missing.obj").string()).status, 1);
   const auto garbage = dir_ / "garbage.obj";
-  { std::FILE* f = std::fopen(garbage.c_str(), "w"); std::fputs("f 1 2 9\n", f); std::fclose(f); }
+  {
+    std::FILE* f = std::fopen(garbage.c_str(), "w");
+    std::fputs("f 1 2 9\n", f);
+    std::fclose(f);
+  }
   EXPECT_EQ(runCli("metrics " + sphere_.string() + " --reference " + garbage.string()).status, 1);
 }
 

@@ -83,7 +83,8 @@ TEST(MetricsShape, RightIsoscelesTriangleHasKnownAnglesAndQuality) {
   EXPECT_EQ(q.anglesAbove90Pct, 0.0);  // exactly 90° is not above
   EXPECT_NEAR(q.minAngleMean, 45.0, 1e-12);
   // Q = 6·(1/2) / (√3·(2 + √2)/2·√2)
-  EXPECT_NEAR(q.qualityMin, 6.0 / (std::sqrt(3.0) * (2.0 + std::sqrt(2.0)) * std::sqrt(2.0)), 1e-12);
+  EXPECT_NEAR(q.qualityMin, 6.0 / (std::sqrt(3.0) * (2.0 + std::sqrt(2.0)) * std::sqrt(2.0)),
+              1e-12);
   EXPECT_EQ(q.irregularBoundary, 3);
 }
 
