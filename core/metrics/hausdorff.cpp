@@ -70,7 +70,13 @@ struct TriangleArrays {
     for (const auto fh : mesh.faces()) {
       const auto h = fh.halfedge();
       const std::array<int, 3> t{h.from().idx(), h.to().idx(), h.next().to().idx()};
-      for (const int v : t) referenced[v] = 1;
+      for (const int v : t) {
+        if (!positions[v].allFinite())
+          throw Error(ErrorCode::InvalidMesh, "vertex " + std::to_string(v) +
+                                                  " has a non-finite coordinate: distances to or "
+                                                  "from this mesh are undefined");
+        referenced[v] = 1;
+      }
       triangles.push_back(t);
     }
   }

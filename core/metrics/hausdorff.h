@@ -42,7 +42,8 @@ struct DistanceOptions {
 };
 
 /// Exact closest-point queries against one triangle mesh. Builds the BVH once (O(F log F));
-/// queries are thread-safe. Refuses a mesh without faces (Error InvalidMesh).
+/// queries are thread-safe. Refuses a mesh without faces or with a non-finite coordinate
+/// (Error InvalidMesh).
 class ClosestPointQuery {
  public:
   explicit ClosestPointQuery(const TriMesh& target);
@@ -52,7 +53,9 @@ class ClosestPointQuery {
 
   struct Result {
     double distance = 0.0;
-    int face = -1;  ///< index of the closest face (lowest index among exact ties)
+    /// Closest face, lowest index among exact ties (faces counted in iteration order: the
+    /// OpenMesh index when the mesh has no deleted faces).
+    int face = -1;
     Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< closest point on the mesh
   };
   /// Closest point of the mesh to `p`. `hintFace` (a face index, or −1) seeds the search radius

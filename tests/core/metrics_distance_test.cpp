@@ -174,6 +174,19 @@ TEST(MetricsDistance, TopologyMismatchIsReported) {
   EXPECT_FALSE(*q.topologyMatchesReference);
 }
 
+TEST(MetricsDistance, RefusesNonFiniteCoordinatesWithTheVertex) {
+  const TriMesh sphere = makeIcosphere(1);
+  TriMesh broken = sphere;
+  broken.set_point(TriMesh::VertexHandle(7), {0.0, std::nan(""), 0.0});
+  try {
+    measureQuality(sphere, &broken);
+    FAIL() << "expected an Error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::InvalidMesh);
+    EXPECT_NE(std::string(e.what()).find("vertex 7"), std::string::npos) << e.what();
+  }
+}
+
 TEST(MetricsDistance, RejectsBadOptions) {
   MetricsOptions options;
   options.distance.relativeTolerance = 0.0;
