@@ -173,7 +173,7 @@ class AsciiValues {
 class BinaryValues {
  public:
   BinaryValues(std::string_view bytes, std::size_t offset, bool bigEndian)
-      : bytes_(bytes), pos_(offset), bigEndian_(bigEndian) {}
+      : bytes_(bytes), pos_(std::min(offset, bytes.size())), bigEndian_(bigEndian) {}
   double real(Scalar type) {
     const std::uint64_t raw = take(byteSize(type));
     switch (type) {

@@ -4,6 +4,7 @@
 
 #include "core/common/error.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -57,7 +58,7 @@ class LineScanner {
   /// 1-based number of the line last returned by next().
   std::size_t lineNumber() const { return lineNumber_; }
   /// Byte offset where the next line starts.
-  std::size_t offset() const { return pos_; }
+  std::size_t offset() const { return std::min(pos_, text_.size()); }
 
  private:
   std::string_view text_;

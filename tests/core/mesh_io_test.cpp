@@ -262,6 +262,17 @@ TEST(PlyReader, TruncatedBinaryDataNamesTheByteOffset) {
   }
 }
 
+TEST(PlyReader, HeaderWithoutDataIsTruncatedNotOverread) {
+  // The file ends right after "end_header" (no newline): the data offset lies past the end.
+  for (const std::string format : {"binary_little_endian", "ascii"}) {
+    const Error e = expectError([&] {
+      parseMesh("ply\nformat " + format + " 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                "property float z\nend_header");
+    }, ErrorCode::MalformedInput);
+    EXPECT_NE(std::string(e.what()).find("truncated"), std::string::npos) << e.what();
+  }
+}
+
 TEST(PlyReader, HugeCountsAreRefusedWithoutAllocating) {
   const std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
                              "property float y\nproperty float z\nelement face ";
