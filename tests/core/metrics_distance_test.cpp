@@ -126,6 +126,15 @@ TEST(MetricsDistance, PeakInsideAFaceIsFoundByRefinement) {
   const OneSidedDistance rough = oneSidedDistance(flat, toTent, loose);
   EXPECT_LT(rough.max, 0.99 * expected);
   EXPECT_GE(rough.maxUpperBound, expected);
+  EXPECT_LE(rough.maxUpperBound, 1.5 * rough.max);  // certified to the loose tolerance
+
+  // Without room for refinement the result says it is not certified, and the bound still holds.
+  DistanceOptions tight = options;
+  tight.maxSamples = 10;  // the 4 vertices and 2 centroids leave no room for a split
+  const OneSidedDistance capped = oneSidedDistance(flat, toTent, tight);
+  EXPECT_EQ(capped.refinementRounds, 0);
+  EXPECT_FALSE(capped.certified);
+  EXPECT_GE(capped.maxUpperBound, expected);
 
   // The tent's apex is at height h above the flat triangle.
   const ClosestPointQuery toFlat(flat);
