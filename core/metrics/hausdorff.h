@@ -80,7 +80,7 @@ struct OneSidedDistance {
   double area = 0.0;           ///< area of the sampled surface
   Eigen::Vector3d farthestPoint = Eigen::Vector3d::Zero();  ///< where `max` is attained
   std::size_t samples = 0;                                  ///< distance queries made
-  int refinementRounds = 0;
+  int refinementRounds = 0;  ///< rounds of cell splitting (area-proportional and refinement)
 };
 
 /// Distance from every point of `from` to the mesh behind `to`. Isolated vertices of `from` are
