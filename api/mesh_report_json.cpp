@@ -5,14 +5,15 @@ namespace hexcover {
 nlohmann::json toJson(const MeshStatistics& s) {
   nlohmann::json components = nlohmann::json::array();
   for (const auto& c : s.componentTopology)
-    components.push_back({{"vertices", c.vertices},
-                          {"edges", c.edges},
-                          {"faces", c.faces},
-                          {"boundary_loops", c.boundaryLoops},
-                          {"euler_characteristic", c.eulerCharacteristic},
-                          {"genus", c.genus >= 0 ? nlohmann::json(c.genus) : nlohmann::json(nullptr)},
-                          {"manifold", c.manifold},
-                          {"orientable", c.orientable}});
+    components.push_back(
+        {{"vertices", c.vertices},
+         {"edges", c.edges},
+         {"faces", c.faces},
+         {"boundary_loops", c.boundaryLoops},
+         {"euler_characteristic", c.eulerCharacteristic},
+         {"genus", c.genus >= 0 ? nlohmann::json(c.genus) : nlohmann::json(nullptr)},
+         {"manifold", c.manifold},
+         {"orientable", c.orientable}});
   return {{"vertices", s.vertices},
           {"faces", s.faces},
           {"non_triangle_faces", s.nonTriangleFaces},

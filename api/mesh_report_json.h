@@ -2,9 +2,9 @@
 // JSON form of the mesh validation and repair report (core/mesh/report.h). Keys are snake_case;
 // every counter of the report appears, zero or not, so clients can rely on the keys.
 
-#include "core/mesh/report.h"
-
 #include <nlohmann/json.hpp>
+
+#include "core/mesh/report.h"
 
 namespace hexcover {
 

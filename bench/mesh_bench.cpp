@@ -7,8 +7,7 @@
 // steadier figure. One JSON line per mesh ("mesh_bench {...}") and a table for people.
 // Usage: bench_mesh [--runs R] [file...]   (default: every file in shared/meshes/clean)
 
-#include "core/mesh/io.h"
-#include "core/mesh/repair.h"
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -17,8 +16,10 @@
 #include <filesystem>
 #include <functional>
 #include <string>
-#include <unistd.h>
 #include <vector>
+
+#include "core/mesh/io.h"
+#include "core/mesh/repair.h"
 
 namespace {
 
@@ -54,8 +55,10 @@ int main(int argc, char** argv) {
   std::vector<std::filesystem::path> files;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    if (arg == "--runs" && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
-    else files.emplace_back(arg);
+    if (arg == "--runs" && i + 1 < argc)
+      runs = std::max(1, std::atoi(argv[++i]));
+    else
+      files.emplace_back(arg);
   }
   if (files.empty()) {
     const std::filesystem::path clean = std::filesystem::path(HEXCOVER_SHARED_MESHES) / "clean";
@@ -63,14 +66,16 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "bench_mesh: no meshes given and %s not found\n", clean.c_str());
       return 1;
     }
-    for (const auto& entry : std::filesystem::directory_iterator(clean)) files.push_back(entry.path());
+    for (const auto& entry : std::filesystem::directory_iterator(clean))
+      files.push_back(entry.path());
     std::sort(files.begin(), files.end());
   }
-  const auto scratch = std::filesystem::temp_directory_path() / ("hexcover_bench_mesh_" + std::to_string(getpid()));
+  const auto scratch =
+      std::filesystem::temp_directory_path() / ("hexcover_bench_mesh_" + std::to_string(getpid()));
   std::filesystem::create_directories(scratch);
 
-  std::printf("%-28s %9s %9s | %17s | %17s | %17s\n", "mesh", "vertices", "faces", "read wall/cpu ms",
-              "repair wall/cpu ms", "write wall/cpu ms");
+  std::printf("%-28s %9s %9s | %17s | %17s | %17s\n", "mesh", "vertices", "faces",
+              "read wall/cpu ms", "repair wall/cpu ms", "write wall/cpu ms");
   for (const auto& path : files) {
     PolygonSoup soup;
     RepairedMesh repaired;
@@ -82,14 +87,15 @@ int main(int argc, char** argv) {
       writeMesh(result, scratch / "out.obj");
     });
     const std::string name = path.filename().string();
-    std::printf("mesh_bench {\"mesh\":\"%s\",\"runs\":%d,\"vertices\":%zu,\"faces\":%zu,"
-                "\"read_s\":%.4f,\"read_cpu_s\":%.4f,\"repair_s\":%.4f,\"repair_cpu_s\":%.4f,"
-                "\"write_s\":%.4f,\"write_cpu_s\":%.4f}\n",
-                name.c_str(), runs, soup.vertexCount(), soup.faceCount(), read.wall, read.cpu, repair.wall,
-                repair.cpu, write.wall, write.cpu);
-    std::printf("%-28s %9zu %9zu | %8.1f %8.1f | %8.1f %8.1f | %8.1f %8.1f\n", name.c_str(), soup.vertexCount(),
-                soup.faceCount(), 1e3 * read.wall, 1e3 * read.cpu, 1e3 * repair.wall, 1e3 * repair.cpu,
-                1e3 * write.wall, 1e3 * write.cpu);
+    std::printf(
+        "mesh_bench {\"mesh\":\"%s\",\"runs\":%d,\"vertices\":%zu,\"faces\":%zu,"
+        "\"read_s\":%.4f,\"read_cpu_s\":%.4f,\"repair_s\":%.4f,\"repair_cpu_s\":%.4f,"
+        "\"write_s\":%.4f,\"write_cpu_s\":%.4f}\n",
+        name.c_str(), runs, soup.vertexCount(), soup.faceCount(), read.wall, read.cpu, repair.wall,
+        repair.cpu, write.wall, write.cpu);
+    std::printf("%-28s %9zu %9zu | %8.1f %8.1f | %8.1f %8.1f | %8.1f %8.1f\n", name.c_str(),
+                soup.vertexCount(), soup.faceCount(), 1e3 * read.wall, 1e3 * read.cpu,
+                1e3 * repair.wall, 1e3 * repair.cpu, 1e3 * write.wall, 1e3 * write.cpu);
   }
   std::filesystem::remove_all(scratch);
   return 0;

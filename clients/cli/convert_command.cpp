@@ -1,12 +1,12 @@
 // `hexcover convert IN OUT [--repair]`: reads a mesh in any supported format and writes it in the
 // format of OUT's extension. Polygons are kept unless --repair asks for the repaired triangle mesh.
 
+#include <iostream>
+
 #include "clients/cli/arguments.h"
 #include "clients/cli/commands.h"
 #include "core/mesh/io.h"
 #include "core/mesh/repair.h"
-
-#include <iostream>
 
 namespace hexcover::cli {
 

@@ -1,13 +1,13 @@
 // `hexcover info MESH [--no-repair] [--weld-tolerance T]`: the validation and repair report of a
 // mesh file as one JSON object on stdout.
 
+#include <iostream>
+
 #include "api/mesh_report_json.h"
 #include "clients/cli/arguments.h"
 #include "clients/cli/commands.h"
 #include "core/mesh/load.h"
 #include "core/mesh/validate.h"
-
-#include <iostream>
 
 namespace hexcover::cli {
 
@@ -18,8 +18,8 @@ int runInfo(int argc, char** argv) {
   RepairOptions options;
   if (const auto tolerance = args.number("--weld-tolerance")) options.weldTolerance = *tolerance;
 
-  const MeshReport report =
-      args.has("--no-repair") ? validateMesh(readMesh(path)) : loadRepairedMesh(path, {}, options).report;
+  const MeshReport report = args.has("--no-repair") ? validateMesh(readMesh(path))
+                                                    : loadRepairedMesh(path, {}, options).report;
   nlohmann::json json = {{"file", path}};
   json.update(toJson(report));
   std::cout << json.dump(2) << "\n";

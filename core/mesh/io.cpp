@@ -1,8 +1,5 @@
 #include "core/mesh/io.h"
 
-#include "core/common/error.h"
-#include "core/mesh/mesh_readers.h"
-
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -12,13 +9,17 @@
 #include <fstream>
 #include <string>
 
+#include "core/common/error.h"
+#include "core/mesh/mesh_readers.h"
+
 namespace hexcover {
 namespace {
 
 bool startsWithWord(std::string_view text, std::string_view word) {
   return text.size() >= word.size() &&
          std::equal(word.begin(), word.end(), text.begin(), [](char a, char b) {
-           return std::tolower(static_cast<unsigned char>(a)) == std::tolower(static_cast<unsigned char>(b));
+           return std::tolower(static_cast<unsigned char>(a)) ==
+                  std::tolower(static_cast<unsigned char>(b));
          });
 }
 
@@ -36,8 +37,9 @@ bool isOffKeyword(std::string_view token) {
 
 // The first statement of an OBJ file, skipping blank and comment lines.
 bool looksLikeObj(std::string_view text) {
-  static constexpr std::string_view kKeywords[] = {"v", "vt", "vn", "vp", "f", "fo", "l", "p", "o", "g",
-                                                   "s", "usemtl", "mtllib", "cstype", "deg", "curv", "surf"};
+  static constexpr std::string_view kKeywords[] = {
+      "v", "vt", "vn",     "vp",     "f",      "fo",  "l",    "p",   "o",
+      "g", "s",  "usemtl", "mtllib", "cstype", "deg", "curv", "surf"};
   std::size_t pos = 0;
   constexpr std::size_t kScanLimit = 64 * 1024;
   while (pos < text.size() && pos < kScanLimit) {
@@ -63,10 +65,14 @@ std::string preview(std::string_view bytes) {
 
 const char* meshFormatName(MeshFormat format) {
   switch (format) {
-    case MeshFormat::Obj: return "obj";
-    case MeshFormat::Off: return "off";
-    case MeshFormat::Ply: return "ply";
-    case MeshFormat::Stl: return "stl";
+    case MeshFormat::Obj:
+      return "obj";
+    case MeshFormat::Off:
+      return "off";
+    case MeshFormat::Ply:
+      return "ply";
+    case MeshFormat::Stl:
+      return "stl";
   }
   return "unknown";
 }
@@ -76,7 +82,8 @@ MeshFormat detectFormat(std::string_view bytes) {
   std::string_view text = bytes;
   if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);  // UTF-8 byte order mark
   const std::size_t start = text.find_first_not_of(" \t\r\n");
-  const std::string_view trimmed = start == std::string_view::npos ? std::string_view{} : text.substr(start);
+  const std::string_view trimmed =
+      start == std::string_view::npos ? std::string_view{} : text.substr(start);
   if (bytes.substr(0, 3) == "ply" && bytes.size() > 3 && (bytes[3] == '\n' || bytes[3] == '\r'))
     return MeshFormat::Ply;
   if (isOffKeyword(firstToken(trimmed))) return MeshFormat::Off;
@@ -88,8 +95,8 @@ MeshFormat detectFormat(std::string_view bytes) {
   // by the STL reader with the missing byte count).
   const bool binary = bytes.substr(0, 84).find('\0') != std::string_view::npos;
   if (binary && bytes.size() >= 84) return MeshFormat::Stl;
-  throw Error(ErrorCode::UnknownFormat,
-              "unknown mesh format: the data (starting with " + preview(bytes) + ") is not OBJ, OFF, PLY or STL");
+  throw Error(ErrorCode::UnknownFormat, "unknown mesh format: the data (starting with " +
+                                            preview(bytes) + ") is not OBJ, OFF, PLY or STL");
 }
 
 MeshFormat formatFromExtension(const std::filesystem::path& path) {
@@ -100,23 +107,29 @@ MeshFormat formatFromExtension(const std::filesystem::path& path) {
   if (extension == ".off") return MeshFormat::Off;
   if (extension == ".ply") return MeshFormat::Ply;
   if (extension == ".stl") return MeshFormat::Stl;
-  throw Error(ErrorCode::UnknownFormat, "unknown mesh file extension '" + path.extension().string() + "' of '" +
-                                            path.string() + "' (use .obj, .off, .ply or .stl)");
+  throw Error(ErrorCode::UnknownFormat, "unknown mesh file extension '" +
+                                            path.extension().string() + "' of '" + path.string() +
+                                            "' (use .obj, .off, .ply or .stl)");
 }
 
 PolygonSoup parseMesh(std::string_view bytes, const ReadOptions& options) {
   switch (detectFormat(bytes)) {
-    case MeshFormat::Obj: return detail::parseObj(bytes, options);
-    case MeshFormat::Off: return detail::parseOff(bytes, options);
-    case MeshFormat::Ply: return detail::parsePly(bytes, options);
-    case MeshFormat::Stl: return detail::parseStl(bytes, options);
+    case MeshFormat::Obj:
+      return detail::parseObj(bytes, options);
+    case MeshFormat::Off:
+      return detail::parseOff(bytes, options);
+    case MeshFormat::Ply:
+      return detail::parsePly(bytes, options);
+    case MeshFormat::Stl:
+      return detail::parseStl(bytes, options);
   }
   throw Error(ErrorCode::UnknownFormat, "unknown mesh format");
 }
 
 PolygonSoup readMesh(const std::filesystem::path& path, const ReadOptions& options) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(ErrorCode::Io, "cannot open '" + path.string() + "': " + std::strerror(errno));
+  if (!in)
+    throw Error(ErrorCode::Io, "cannot open '" + path.string() + "': " + std::strerror(errno));
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);
   if (ec) throw Error(ErrorCode::Io, "cannot read '" + path.string() + "': " + ec.message());

@@ -9,11 +9,11 @@
 // vertices are not welded (except STL, whose corners are welded by exact position because the
 // format stores no shared vertices). See repair.h and load.h for the cleaned triangle mesh.
 
-#include "core/mesh/mesh.h"
-
 #include <cstddef>
 #include <filesystem>
 #include <string_view>
+
+#include "core/mesh/mesh.h"
 
 namespace hexcover {
 

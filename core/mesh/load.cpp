@@ -14,6 +14,8 @@ RepairedMesh loadRepairedMesh(const std::filesystem::path& path, const ReadOptio
   }
 }
 
-TriMesh loadMesh(const std::filesystem::path& path) { return std::move(loadRepairedMesh(path).mesh); }
+TriMesh loadMesh(const std::filesystem::path& path) {
+  return std::move(loadRepairedMesh(path).mesh);
+}
 
 }  // namespace hexcover

@@ -1,10 +1,10 @@
 #pragma once
 // One call from a file to the clean triangle mesh: read, triangulate, validate, repair.
 
+#include <filesystem>
+
 #include "core/mesh/io.h"
 #include "core/mesh/repair.h"
-
-#include <filesystem>
 
 namespace hexcover {
 

@@ -2,9 +2,9 @@
 // Internal to core/mesh: the per-format parsers behind parseMesh (io.h). Each throws Error with
 // the line number (text) or byte offset (binary) of the problem.
 
-#include "core/mesh/io.h"
-
 #include <string_view>
+
+#include "core/mesh/io.h"
 
 namespace hexcover::detail {
 

@@ -1,10 +1,6 @@
 // Mesh writers (writeMesh in io.h). Output goes through a fixed-size buffer straight to the file,
 // so writing a multi-million-face mesh never builds the whole file in memory.
 
-#include "core/common/error.h"
-#include "core/mesh/io.h"
-#include "core/mesh/soup_connectivity.h"
-
 #include <array>
 #include <bit>
 #include <charconv>
@@ -12,14 +8,20 @@
 #include <memory>
 #include <string>
 
+#include "core/common/error.h"
+#include "core/mesh/io.h"
+#include "core/mesh/soup_connectivity.h"
+
 namespace hexcover {
 namespace {
 
 // Buffered binary/text output to a file; write errors surface as Error(Io) in finish().
 class OutputFile {
  public:
-  explicit OutputFile(const std::filesystem::path& path) : path_(path), file_(std::fopen(path.c_str(), "wb")) {
-    if (!file_) throw Error(ErrorCode::Io, "cannot create '" + path.string() + "': " + std::strerror(errno));
+  explicit OutputFile(const std::filesystem::path& path)
+      : path_(path), file_(std::fopen(path.c_str(), "wb")) {
+    if (!file_)
+      throw Error(ErrorCode::Io, "cannot create '" + path.string() + "': " + std::strerror(errno));
   }
   ~OutputFile() {
     if (file_) std::fclose(file_);
@@ -50,12 +52,14 @@ class OutputFile {
   }
   template <typename T>
   void littleEndian(T value) {
-    using Bits = std::conditional_t<sizeof(T) == 8, std::uint64_t,
-                                    std::conditional_t<sizeof(T) == 4, std::uint32_t,
-                                                       std::conditional_t<sizeof(T) == 2, std::uint16_t, std::uint8_t>>>;
+    using Bits = std::conditional_t<
+        sizeof(T) == 8, std::uint64_t,
+        std::conditional_t<sizeof(T) == 4, std::uint32_t,
+                           std::conditional_t<sizeof(T) == 2, std::uint16_t, std::uint8_t>>>;
     const auto bits = std::bit_cast<Bits>(value);
     char bytes[sizeof(T)];
-    for (std::size_t i = 0; i < sizeof(T); ++i) bytes[i] = static_cast<char>((bits >> (8 * i)) & 0xffu);
+    for (std::size_t i = 0; i < sizeof(T); ++i)
+      bytes[i] = static_cast<char>((bits >> (8 * i)) & 0xffu);
     write(std::string_view(bytes, sizeof(T)));
   }
   void finish() {
@@ -148,8 +152,10 @@ void writePly(const PolygonSoup& soup, OutputFile& out) {
   for (const auto& p : soup.positions)
     for (int i = 0; i < 3; ++i) out.littleEndian(p[i]);
   for (std::size_t f = 0; f < soup.faceCount(); ++f) {
-    if (byteCounts) out.littleEndian(static_cast<std::uint8_t>(soup.faceSize(f)));
-    else out.littleEndian(static_cast<std::uint32_t>(soup.faceSize(f)));
+    if (byteCounts)
+      out.littleEndian(static_cast<std::uint8_t>(soup.faceSize(f)));
+    else
+      out.littleEndian(static_cast<std::uint32_t>(soup.faceSize(f)));
     for (std::size_t c = soup.faceStarts[f]; c < soup.faceStarts[f + 1]; ++c)
       out.littleEndian(static_cast<std::int32_t>(soup.cornerVertices[c]));
   }
@@ -157,8 +163,10 @@ void writePly(const PolygonSoup& soup, OutputFile& out) {
 
 void writeStl(const PolygonSoup& soup, OutputFile& out) {
   std::uint64_t triangles = 0;
-  for (std::size_t f = 0; f < soup.faceCount(); ++f) triangles += soup.faceSize(f) >= 3 ? soup.faceSize(f) - 2 : 0;
-  if (triangles > UINT32_MAX) throw Error(ErrorCode::LimitExceeded, "too many triangles for binary STL");
+  for (std::size_t f = 0; f < soup.faceCount(); ++f)
+    triangles += soup.faceSize(f) >= 3 ? soup.faceSize(f) - 2 : 0;
+  if (triangles > UINT32_MAX)
+    throw Error(ErrorCode::LimitExceeded, "too many triangles for binary STL");
   // The header must not start with "solid", or readers could take the file for ASCII.
   std::array<char, 80> header{};
   constexpr std::string_view kHeader = "binary STL written by hexcover";
@@ -172,7 +180,8 @@ void writeStl(const PolygonSoup& soup, OutputFile& out) {
       const Eigen::Vector3d& b = soup.positions[corners[i]];
       const Eigen::Vector3d& c = soup.positions[corners[i + 1]];
       const Eigen::Vector3d normal = (b - a).cross(c - a).normalized();
-      for (const Eigen::Vector3d& p : {normal.allFinite() ? normal : Eigen::Vector3d::Zero().eval(), a, b, c})
+      for (const Eigen::Vector3d& p :
+           {normal.allFinite() ? normal : Eigen::Vector3d::Zero().eval(), a, b, c})
         for (int k = 0; k < 3; ++k) out.littleEndian(static_cast<float>(p[k]));
       out.littleEndian(std::uint16_t{0});
     }
@@ -186,10 +195,18 @@ void writeMesh(const PolygonSoup& soup, const std::filesystem::path& path) {
   detail::checkSoupStructure(soup, /*checkIndices=*/true);
   OutputFile out(path);
   switch (format) {
-    case MeshFormat::Obj: writeObj(soup, out); break;
-    case MeshFormat::Off: writeOff(soup, out); break;
-    case MeshFormat::Ply: writePly(soup, out); break;
-    case MeshFormat::Stl: writeStl(soup, out); break;
+    case MeshFormat::Obj:
+      writeObj(soup, out);
+      break;
+    case MeshFormat::Off:
+      writeOff(soup, out);
+      break;
+    case MeshFormat::Ply:
+      writePly(soup, out);
+      break;
+    case MeshFormat::Stl:
+      writeStl(soup, out);
+      break;
   }
   out.finish();
 }

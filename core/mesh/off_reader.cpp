@@ -2,11 +2,11 @@
 // values such as colours, normals or texture coordinates are skipped), face colours, `#` comments
 // anywhere. The 4D and n-dimensional variants and binary OFF are refused.
 
-#include "core/mesh/mesh_readers.h"
-#include "core/mesh/text_scanner.h"
-
 #include <algorithm>
 #include <string>
+
+#include "core/mesh/mesh_readers.h"
+#include "core/mesh/text_scanner.h"
 
 namespace hexcover::detail {
 namespace {
@@ -33,7 +33,8 @@ class OffTokens {
   bool advanceLine() {
     std::string_view line;
     if (!lines_.next(line)) return false;
-    if (const std::size_t hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+    if (const std::size_t hash = line.find('#'); hash != std::string_view::npos)
+      line = line.substr(0, hash);
     tokens_ = LineTokens(line);
     return true;
   }
@@ -45,7 +46,8 @@ std::int64_t parseCount(std::string_view token, std::size_t line, const char* wh
   std::int64_t value = 0;
   if (!parseInteger(token, value) || value < 0)
     failAtLine(ErrorCode::MalformedInput, kFormat, line,
-               std::string("expected the ") + what + ", got " + (token.empty() ? "end of file" : quoted(token)));
+               std::string("expected the ") + what + ", got " +
+                   (token.empty() ? "end of file" : quoted(token)));
   return value;
 }
 
@@ -61,7 +63,8 @@ PolygonSoup parseOff(std::string_view text, const ReadOptions& options) {
   const std::string_view header = tokens.next();
   const std::size_t at = header.rfind("OFF");
   if (at == std::string_view::npos || at + 3 != header.size())
-    failAtLine(ErrorCode::MalformedInput, kFormat, tokens.line(), "expected an OFF header, got " + quoted(header));
+    failAtLine(ErrorCode::MalformedInput, kFormat, tokens.line(),
+               "expected an OFF header, got " + quoted(header));
   const std::string_view prefix = header.substr(0, at);
   if (prefix.find('4') != std::string_view::npos || prefix.find('n') != std::string_view::npos)
     failAtLine(ErrorCode::MalformedInput, kFormat, tokens.line(),
@@ -83,8 +86,10 @@ PolygonSoup parseOff(std::string_view text, const ReadOptions& options) {
 
   PolygonSoup soup;
   // Every record takes at least a few bytes: never reserve more than the text can hold.
-  soup.positions.reserve(std::min<std::size_t>(static_cast<std::size_t>(vertexCount), text.size() / 6));
-  soup.faceStarts.reserve(std::min<std::size_t>(static_cast<std::size_t>(faceCount), text.size() / 8) + 1);
+  soup.positions.reserve(
+      std::min<std::size_t>(static_cast<std::size_t>(vertexCount), text.size() / 6));
+  soup.faceStarts.reserve(
+      std::min<std::size_t>(static_cast<std::size_t>(faceCount), text.size() / 8) + 1);
   for (std::int64_t v = 0; v < vertexCount; ++v) {
     Eigen::Vector3d p;
     for (int i = 0; i < 3; ++i) {
@@ -107,12 +112,14 @@ PolygonSoup parseOff(std::string_view text, const ReadOptions& options) {
       std::int64_t index = 0;
       if (!parseInteger(token, index))
         failAtLine(ErrorCode::MalformedInput, kFormat, tokens.line(),
-                   "face " + std::to_string(f) + " needs " + std::to_string(n) + " vertex indices, got " +
+                   "face " + std::to_string(f) + " needs " + std::to_string(n) +
+                       " vertex indices, got " +
                        (token.empty() ? std::string("end of file") : quoted(token)));
       if (index < 0 || index >= vertexCount)
         failAtLine(ErrorCode::MalformedInput, kFormat, tokens.line(),
                    "face " + std::to_string(f) + " refers to vertex " + std::to_string(index) +
-                       ", out of range (the file has " + std::to_string(vertexCount) + " vertices)");
+                       ", out of range (the file has " + std::to_string(vertexCount) +
+                       " vertices)");
       soup.cornerVertices.push_back(static_cast<std::uint32_t>(index));
     }
     tokens.skipRestOfLine();  // face colour

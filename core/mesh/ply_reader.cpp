@@ -2,14 +2,14 @@
 // type are kept), face lists of any size with any count and index type, `tristrips` elements
 // (-1 restarts the strip), other elements skipped, CRLF header lines.
 
-#include "core/mesh/mesh_readers.h"
-#include "core/mesh/text_scanner.h"
-
 #include <algorithm>
 #include <bit>
 #include <cmath>
 #include <string>
 #include <vector>
+
+#include "core/mesh/mesh_readers.h"
+#include "core/mesh/text_scanner.h"
 
 namespace hexcover::detail {
 namespace {
@@ -22,11 +22,11 @@ bool parseScalar(std::string_view name, Scalar& type) {
     Scalar type;
   };
   static constexpr Name kNames[] = {
-      {"char", Scalar::Int8},      {"int8", Scalar::Int8},       {"uchar", Scalar::UInt8},
-      {"uint8", Scalar::UInt8},    {"short", Scalar::Int16},     {"int16", Scalar::Int16},
-      {"ushort", Scalar::UInt16},  {"uint16", Scalar::UInt16},   {"int", Scalar::Int32},
-      {"int32", Scalar::Int32},    {"uint", Scalar::UInt32},     {"uint32", Scalar::UInt32},
-      {"int64", Scalar::Int64},    {"uint64", Scalar::UInt64},   {"float", Scalar::Float32},
+      {"char", Scalar::Int8},       {"int8", Scalar::Int8},      {"uchar", Scalar::UInt8},
+      {"uint8", Scalar::UInt8},     {"short", Scalar::Int16},    {"int16", Scalar::Int16},
+      {"ushort", Scalar::UInt16},   {"uint16", Scalar::UInt16},  {"int", Scalar::Int32},
+      {"int32", Scalar::Int32},     {"uint", Scalar::UInt32},    {"uint32", Scalar::UInt32},
+      {"int64", Scalar::Int64},     {"uint64", Scalar::UInt64},  {"float", Scalar::Float32},
       {"float32", Scalar::Float32}, {"double", Scalar::Float64}, {"float64", Scalar::Float64}};
   for (const auto& entry : kNames)
     if (entry.name == name) {
@@ -38,10 +38,20 @@ bool parseScalar(std::string_view name, Scalar& type) {
 
 std::size_t byteSize(Scalar type) {
   switch (type) {
-    case Scalar::Int8: case Scalar::UInt8: return 1;
-    case Scalar::Int16: case Scalar::UInt16: return 2;
-    case Scalar::Int32: case Scalar::UInt32: case Scalar::Float32: return 4;
-    case Scalar::Int64: case Scalar::UInt64: case Scalar::Float64: return 8;
+    case Scalar::Int8:
+    case Scalar::UInt8:
+      return 1;
+    case Scalar::Int16:
+    case Scalar::UInt16:
+      return 2;
+    case Scalar::Int32:
+    case Scalar::UInt32:
+    case Scalar::Float32:
+      return 4;
+    case Scalar::Int64:
+    case Scalar::UInt64:
+    case Scalar::Float64:
+      return 8;
   }
   return 1;
 }
@@ -90,10 +100,14 @@ Header parseHeader(std::string_view bytes) {
     if (keyword.empty() || keyword == "comment" || keyword == "obj_info") continue;
     if (keyword == "format") {
       const std::string_view encoding = tokens.next();
-      if (encoding == "ascii") header.encoding = Encoding::Ascii;
-      else if (encoding == "binary_little_endian") header.encoding = Encoding::BinaryLittleEndian;
-      else if (encoding == "binary_big_endian") header.encoding = Encoding::BinaryBigEndian;
-      else failHeader(lineNumber, "unknown format " + quoted(encoding));
+      if (encoding == "ascii")
+        header.encoding = Encoding::Ascii;
+      else if (encoding == "binary_little_endian")
+        header.encoding = Encoding::BinaryLittleEndian;
+      else if (encoding == "binary_big_endian")
+        header.encoding = Encoding::BinaryBigEndian;
+      else
+        failHeader(lineNumber, "unknown format " + quoted(encoding));
       formatSeen = true;
     } else if (keyword == "element") {
       Element element;
@@ -114,7 +128,8 @@ Header parseHeader(std::string_view bytes) {
           failHeader(lineNumber, "a list needs an integer count type");
         type = tokens.next();
       }
-      if (!parseScalar(type, property.type)) failHeader(lineNumber, "unknown property type " + quoted(type));
+      if (!parseScalar(type, property.type))
+        failHeader(lineNumber, "unknown property type " + quoted(type));
       property.name = std::string(tokens.next());
       if (property.name.empty()) failHeader(lineNumber, "property without a name");
       header.elements.back().properties.push_back(std::move(property));
@@ -137,7 +152,8 @@ class AsciiValues {
   std::int64_t integer(Scalar type) {
     const double value = parse();
     if (value != std::floor(value) || std::abs(value) > 9.0e15)
-      fail("expected an integer value for a " + std::string(isFloating(type) ? "real" : "integer") + " property");
+      fail("expected an integer value for a " + std::string(isFloating(type) ? "real" : "integer") +
+           " property");
     return static_cast<std::int64_t>(value);
   }
   /// Skips n values of `type` (ASCII: n tokens).
@@ -149,7 +165,9 @@ class AsciiValues {
   [[noreturn]] void fail(const std::string& what) {
     failAtLine(ErrorCode::MalformedInput, "PLY", firstLine_ + lines_.lineNumber(), what);
   }
-  std::string location() const { return "line " + std::to_string(firstLine_ + lines_.lineNumber()); }
+  std::string location() const {
+    return "line " + std::to_string(firstLine_ + lines_.lineNumber());
+  }
 
  private:
   double parse() {
@@ -177,15 +195,19 @@ class BinaryValues {
   double real(Scalar type) {
     const std::uint64_t raw = take(byteSize(type));
     switch (type) {
-      case Scalar::Float32: return std::bit_cast<float>(static_cast<std::uint32_t>(raw));
-      case Scalar::Float64: return std::bit_cast<double>(raw);
-      default: return static_cast<double>(signExtend(raw, type));
+      case Scalar::Float32:
+        return std::bit_cast<float>(static_cast<std::uint32_t>(raw));
+      case Scalar::Float64:
+        return std::bit_cast<double>(raw);
+      default:
+        return static_cast<double>(signExtend(raw, type));
     }
   }
   std::int64_t integer(Scalar type) {
     if (!isFloating(type)) return signExtend(take(byteSize(type)), type);
     const double value = real(type);
-    if (!(value == std::floor(value)) || std::abs(value) > 9.0e15) fail("expected an integer value");
+    if (!(value == std::floor(value)) || std::abs(value) > 9.0e15)
+      fail("expected an integer value");
     return static_cast<std::int64_t>(value);
   }
   void skip(Scalar type, std::uint64_t n) { skipBytes(n * byteSize(type)); }
@@ -216,12 +238,18 @@ class BinaryValues {
   }
   static std::int64_t signExtend(std::uint64_t raw, Scalar type) {
     switch (type) {
-      case Scalar::Int8: return static_cast<std::int8_t>(raw);
-      case Scalar::Int16: return static_cast<std::int16_t>(raw);
-      case Scalar::Int32: return static_cast<std::int32_t>(raw);
-      case Scalar::Int64: return static_cast<std::int64_t>(raw);
-      case Scalar::UInt64: return raw > static_cast<std::uint64_t>(INT64_MAX) ? -1 : static_cast<std::int64_t>(raw);
-      default: return static_cast<std::int64_t>(raw);
+      case Scalar::Int8:
+        return static_cast<std::int8_t>(raw);
+      case Scalar::Int16:
+        return static_cast<std::int16_t>(raw);
+      case Scalar::Int32:
+        return static_cast<std::int32_t>(raw);
+      case Scalar::Int64:
+        return static_cast<std::int64_t>(raw);
+      case Scalar::UInt64:
+        return raw > static_cast<std::uint64_t>(INT64_MAX) ? -1 : static_cast<std::int64_t>(raw);
+      default:
+        return static_cast<std::int64_t>(raw);
     }
   }
   std::string_view bytes_;
@@ -229,7 +257,8 @@ class BinaryValues {
   bool bigEndian_;
 };
 
-const Property* findProperty(const Element& element, std::initializer_list<std::string_view> names, bool list) {
+const Property* findProperty(const Element& element, std::initializer_list<std::string_view> names,
+                             bool list) {
   for (const auto name : names)
     for (const auto& p : element.properties)
       if (p.name == name && p.isList == list) return &p;
@@ -239,7 +268,9 @@ const Property* findProperty(const Element& element, std::initializer_list<std::
 template <typename Values>
 std::uint64_t readListCount(Values& values, const Property& property, std::uint64_t limit) {
   const std::int64_t n = values.integer(property.countType);
-  if (n < 0) values.fail("negative list length " + std::to_string(n) + " in property '" + property.name + "'");
+  if (n < 0)
+    values.fail("negative list length " + std::to_string(n) + " in property '" + property.name +
+                "'");
   if (static_cast<std::uint64_t>(n) > limit)
     values.fail("list length " + std::to_string(n) + " in property '" + property.name +
                 "' exceeds the data left (truncated or corrupt data)");
@@ -249,23 +280,32 @@ std::uint64_t readListCount(Values& values, const Property& property, std::uint6
 template <typename Values>
 void skipProperty(Values& values, const Property& property) {
   if (!property.isList) return values.skip(property.type, 1);
-  values.skip(property.type, readListCount(values, property, values.remaining() / byteSize(property.type)));
+  values.skip(property.type,
+              readListCount(values, property, values.remaining() / byteSize(property.type)));
 }
 
 template <typename Values>
 void readVertices(Values& values, const Element& element, PolygonSoup& soup) {
-  const Property* axes[3] = {findProperty(element, {"x"}, false), findProperty(element, {"y"}, false),
+  const Property* axes[3] = {findProperty(element, {"x"}, false),
+                             findProperty(element, {"y"}, false),
                              findProperty(element, {"z"}, false)};
   if (!axes[0] || !axes[1] || !axes[2])
-    failAtLine(ErrorCode::MalformedInput, "PLY header", element.line, "the vertex element has no x, y and z properties");
-  soup.positions.reserve(soup.positions.size() + std::min<std::uint64_t>(element.count, values.remaining() / 6));
+    failAtLine(ErrorCode::MalformedInput, "PLY header", element.line,
+               "the vertex element has no x, y and z properties");
+  soup.positions.reserve(soup.positions.size() +
+                         std::min<std::uint64_t>(element.count, values.remaining() / 6));
   for (std::uint64_t v = 0; v < element.count; ++v) {
     Eigen::Vector3d p = Eigen::Vector3d::Zero();
     const std::string where = values.location();
     for (const auto& property : element.properties) {
-      const int axis = &property == axes[0] ? 0 : &property == axes[1] ? 1 : &property == axes[2] ? 2 : -1;
-      if (axis < 0) skipProperty(values, property);
-      else p[axis] = values.real(property.type);
+      const int axis = &property == axes[0]   ? 0
+                       : &property == axes[1] ? 1
+                       : &property == axes[2] ? 2
+                                              : -1;
+      if (axis < 0)
+        skipProperty(values, property);
+      else
+        p[axis] = values.real(property.type);
     }
     if (!p.allFinite())
       throw Error(ErrorCode::InvalidMesh, "PLY " + where + ": vertex " + std::to_string(v) +
@@ -282,7 +322,8 @@ void readIndices(Values& values, const Property& list, std::uint64_t vertexCount
   out.clear();
   for (std::uint64_t i = 0; i < n; ++i) {
     const std::int64_t index = values.integer(list.type);
-    if ((index < 0 && !(allowRestart && index == -1)) || (index >= 0 && static_cast<std::uint64_t>(index) >= vertexCount))
+    if ((index < 0 && !(allowRestart && index == -1)) ||
+        (index >= 0 && static_cast<std::uint64_t>(index) >= vertexCount))
       values.fail("vertex index " + std::to_string(index) + " is out of range (the file has " +
                   std::to_string(vertexCount) + " vertices)");
     out.push_back(index);
@@ -290,21 +331,25 @@ void readIndices(Values& values, const Property& list, std::uint64_t vertexCount
 }
 
 template <typename Values>
-void readFaces(Values& values, const Element& element, std::uint64_t vertexCount, const ReadOptions& options,
-               PolygonSoup& soup) {
+void readFaces(Values& values, const Element& element, std::uint64_t vertexCount,
+               const ReadOptions& options, PolygonSoup& soup) {
   const Property* list = findProperty(element, {"vertex_indices", "vertex_index"}, true);
-  if (!list) failAtLine(ErrorCode::MalformedInput, "PLY header", element.line, "the face element has no vertex_indices list");
+  if (!list)
+    failAtLine(ErrorCode::MalformedInput, "PLY header", element.line,
+               "the face element has no vertex_indices list");
   std::vector<std::int64_t> indices;
   for (std::uint64_t f = 0; f < element.count; ++f) {
     if (soup.faceCount() >= options.maxFaces)
-      throw Error(ErrorCode::LimitExceeded, "PLY: more than " + std::to_string(options.maxFaces) + " faces");
+      throw Error(ErrorCode::LimitExceeded,
+                  "PLY: more than " + std::to_string(options.maxFaces) + " faces");
     for (const auto& property : element.properties) {
       if (&property != list) {
         skipProperty(values, property);
         continue;
       }
       readIndices(values, property, vertexCount, false, indices);
-      for (const auto index : indices) soup.cornerVertices.push_back(static_cast<std::uint32_t>(index));
+      for (const auto index : indices)
+        soup.cornerVertices.push_back(static_cast<std::uint32_t>(index));
       soup.faceStarts.push_back(static_cast<std::uint32_t>(soup.cornerVertices.size()));
     }
   }
@@ -317,7 +362,9 @@ template <typename Values>
 void readTriangleStrips(Values& values, const Element& element, std::uint64_t vertexCount,
                         const ReadOptions& options, PolygonSoup& soup) {
   const Property* list = findProperty(element, {"vertex_indices", "vertex_index"}, true);
-  if (!list) failAtLine(ErrorCode::MalformedInput, "PLY header", element.line, "the tristrips element has no vertex_indices list");
+  if (!list)
+    failAtLine(ErrorCode::MalformedInput, "PLY header", element.line,
+               "the tristrips element has no vertex_indices list");
   std::vector<std::int64_t> indices;
   for (std::uint64_t s = 0; s < element.count; ++s) {
     for (const auto& property : element.properties) {
@@ -338,7 +385,8 @@ void readTriangleStrips(Values& values, const Element& element, std::uint64_t ve
         if (k % 2 == 1) std::swap(t[0], t[1]);
         if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
         if (soup.faceCount() >= options.maxFaces)
-          throw Error(ErrorCode::LimitExceeded, "PLY: more than " + std::to_string(options.maxFaces) + " faces");
+          throw Error(ErrorCode::LimitExceeded,
+                      "PLY: more than " + std::to_string(options.maxFaces) + " faces");
         for (const auto v : t) soup.cornerVertices.push_back(static_cast<std::uint32_t>(v));
         soup.faceStarts.push_back(static_cast<std::uint32_t>(soup.cornerVertices.size()));
       }
@@ -356,8 +404,9 @@ void skipElement(Values& values, const Element& element) {
       std::uint64_t recordBytes = 0;
       for (const auto& p : element.properties) recordBytes += byteSize(p.type);
       if (element.count > values.remaining() / recordBytes)
-        values.fail("truncated binary data: element '" + element.name + "' needs " + std::to_string(element.count) +
-                    " records of " + std::to_string(recordBytes) + " bytes");
+        values.fail("truncated binary data: element '" + element.name + "' needs " +
+                    std::to_string(element.count) + " records of " + std::to_string(recordBytes) +
+                    " bytes");
       return values.skipBytes(element.count * recordBytes);
     }
   }
@@ -371,20 +420,26 @@ PolygonSoup readBody(Values& values, const Header& header, const ReadOptions& op
   for (const auto& element : header.elements) {
     if (element.name == "vertex") vertexCount += element.count;
     if (element.name == "vertex" && element.count > options.maxVertices)
-      throw Error(ErrorCode::LimitExceeded, "PLY header line " + std::to_string(element.line) + ": declares " +
-                                                std::to_string(element.count) + " vertices, over the limit of " +
+      throw Error(ErrorCode::LimitExceeded, "PLY header line " + std::to_string(element.line) +
+                                                ": declares " + std::to_string(element.count) +
+                                                " vertices, over the limit of " +
                                                 std::to_string(options.maxVertices));
     if (element.name == "face" && element.count > options.maxFaces)
-      throw Error(ErrorCode::LimitExceeded, "PLY header line " + std::to_string(element.line) + ": declares " +
-                                                std::to_string(element.count) + " faces, over the limit of " +
+      throw Error(ErrorCode::LimitExceeded, "PLY header line " + std::to_string(element.line) +
+                                                ": declares " + std::to_string(element.count) +
+                                                " faces, over the limit of " +
                                                 std::to_string(options.maxFaces));
   }
   PolygonSoup soup;
   for (const auto& element : header.elements) {
-    if (element.name == "vertex") readVertices(values, element, soup);
-    else if (element.name == "face") readFaces(values, element, vertexCount, options, soup);
-    else if (element.name == "tristrips") readTriangleStrips(values, element, vertexCount, options, soup);
-    else skipElement(values, element);
+    if (element.name == "vertex")
+      readVertices(values, element, soup);
+    else if (element.name == "face")
+      readFaces(values, element, vertexCount, options, soup);
+    else if (element.name == "tristrips")
+      readTriangleStrips(values, element, vertexCount, options, soup);
+    else
+      skipElement(values, element);
   }
   return soup;
 }

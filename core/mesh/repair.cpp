@@ -1,13 +1,13 @@
 #include "core/mesh/repair.h"
 
-#include "core/common/error.h"
-#include "core/mesh/soup_connectivity.h"
-#include "core/mesh/validate.h"
-
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <unordered_map>
+
+#include "core/common/error.h"
+#include "core/mesh/soup_connectivity.h"
+#include "core/mesh/validate.h"
 
 namespace hexcover {
 namespace {
@@ -27,26 +27,32 @@ std::string formatPoint(const Eigen::Vector3d& p) {
 
 void validateOptions(const RepairOptions& options) {
   if (!(options.weldTolerance >= 0.0 && options.weldTolerance <= 0.1))
-    throw Error(ErrorCode::InvalidOption, "weld tolerance must be in [0, 0.1] (a fraction of the "
-                                          "bounding-box diagonal), got " +
-                                              std::to_string(options.weldTolerance));
-  if (options.maxFaces == 0) throw Error(ErrorCode::InvalidOption, "the face limit must be positive");
+    throw Error(ErrorCode::InvalidOption,
+                "weld tolerance must be in [0, 0.1] (a fraction of the "
+                "bounding-box diagonal), got " +
+                    std::to_string(options.weldTolerance));
+  if (options.maxFaces == 0)
+    throw Error(ErrorCode::InvalidOption, "the face limit must be positive");
 }
 
 // Refuses what no repair can fix, naming the first offending element.
 void refuseUnrepairable(const PolygonSoup& soup, const RepairOptions& options) {
   detail::checkSoupStructure(soup, /*checkIndices=*/false);
   if (soup.faceCount() == 0)
-    throw Error(ErrorCode::InvalidMesh, "empty mesh: no faces (" + std::to_string(soup.vertexCount()) + " vertices)");
+    throw Error(ErrorCode::InvalidMesh,
+                "empty mesh: no faces (" + std::to_string(soup.vertexCount()) + " vertices)");
   std::size_t triangles = 0;
-  for (std::size_t f = 0; f < soup.faceCount(); ++f) triangles += std::max<std::size_t>(soup.faceSize(f), 3) - 2;
+  for (std::size_t f = 0; f < soup.faceCount(); ++f)
+    triangles += std::max<std::size_t>(soup.faceSize(f), 3) - 2;
   if (triangles > options.maxFaces)
     throw Error(ErrorCode::LimitExceeded, "the mesh has " + std::to_string(triangles) +
-                                              " triangles, over the limit of " + std::to_string(options.maxFaces));
+                                              " triangles, over the limit of " +
+                                              std::to_string(options.maxFaces));
   detail::checkSoupStructure(soup, /*checkIndices=*/true);
   for (std::size_t v = 0; v < soup.vertexCount(); ++v)
     if (!soup.positions[v].allFinite())
-      throw Error(ErrorCode::InvalidMesh, "vertex " + std::to_string(v) + " has a NaN or infinite coordinate " +
+      throw Error(ErrorCode::InvalidMesh, "vertex " + std::to_string(v) +
+                                              " has a NaN or infinite coordinate " +
                                               formatPoint(soup.positions[v]));
 }
 
@@ -56,12 +62,14 @@ void triangulateFace(const PolygonSoup& soup, std::size_t f, std::vector<Triangl
   const std::uint32_t* corners = soup.cornerVertices.data() + soup.faceStarts[f];
   const std::size_t n = soup.faceSize(f);
   const auto fan = [&](const std::vector<std::uint32_t>& ring) {
-    for (std::size_t i = 1; i + 1 < ring.size(); ++i) out.push_back({ring[0], ring[i], ring[i + 1]});
+    for (std::size_t i = 1; i + 1 < ring.size(); ++i)
+      out.push_back({ring[0], ring[i], ring[i + 1]});
   };
   std::vector<std::uint32_t> ring(corners, corners + n);
   if (n == 3 || n > kMaxEarClippingCorners) return fan(ring);
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
-  for (std::size_t i = 0; i < n; ++i) normal += soup.positions[corners[i]].cross(soup.positions[corners[(i + 1) % n]]);
+  for (std::size_t i = 0; i < n; ++i)
+    normal += soup.positions[corners[i]].cross(soup.positions[corners[(i + 1) % n]]);
   if (!(normal.norm() > 0.0)) return fan(ring);
   normal.normalize();
   const Eigen::Vector3d u = normal.unitOrthogonal();
@@ -69,18 +77,22 @@ void triangulateFace(const PolygonSoup& soup, std::size_t f, std::vector<Triangl
   const auto at = [&](std::uint32_t v) {
     return Eigen::Vector2d(soup.positions[v].dot(u), soup.positions[v].dot(w));
   };
-  const auto cross2 = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); };
+  const auto cross2 = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() * b.y() - a.y() * b.x();
+  };
   while (ring.size() > 3) {
     const std::size_t m = ring.size();
     bool clipped = false;
     for (std::size_t i = 0; i < m && !clipped; ++i) {
-      const Eigen::Vector2d a = at(ring[(i + m - 1) % m]), b = at(ring[i]), c = at(ring[(i + 1) % m]);
+      const Eigen::Vector2d a = at(ring[(i + m - 1) % m]), b = at(ring[i]),
+                            c = at(ring[(i + 1) % m]);
       if (cross2(b - a, c - b) <= 0.0) continue;  // reflex or flat corner
       bool empty = true;
       for (std::size_t j = 0; j < m && empty; ++j) {
         if (j == i || j == (i + 1) % m || j == (i + m - 1) % m) continue;
         const Eigen::Vector2d p = at(ring[j]);
-        empty = !(cross2(b - a, p - a) >= 0.0 && cross2(c - b, p - b) >= 0.0 && cross2(a - c, p - c) >= 0.0);
+        empty = !(cross2(b - a, p - a) >= 0.0 && cross2(c - b, p - b) >= 0.0 &&
+                  cross2(a - c, p - c) >= 0.0);
       }
       if (!empty) continue;
       out.push_back({ring[(i + m - 1) % m], ring[i], ring[(i + 1) % m]});
@@ -97,8 +109,9 @@ void triangulateFace(const PolygonSoup& soup, std::size_t f, std::vector<Triangl
 // such distances. Unreferenced vertices map to themselves.
 // `origin` is the lower corner of the bounding box and `diagonal` its length.
 std::vector<std::uint32_t> weldVertices(const std::vector<Eigen::Vector3d>& positions,
-                                        const std::vector<bool>& referenced, const Eigen::Vector3d& origin,
-                                        double diagonal, double tolerance) {
+                                        const std::vector<bool>& referenced,
+                                        const Eigen::Vector3d& origin, double diagonal,
+                                        double tolerance) {
   detail::UnionFind groups(positions.size());
   // Below ~1e-15 of the diagonal, distances are at the level of rounding: weld exact copies only
   // (this also keeps grid cell indices far from integer overflow).
@@ -126,12 +139,13 @@ std::vector<std::uint32_t> weldVertices(const std::vector<Eigen::Vector3d>& posi
     const double cellSize = 2.0 * tolerance;
     std::unordered_map<Cell, std::uint32_t, CellHash> cellHead;  // last vertex put in a cell
     cellHead.reserve(positions.size());
-    std::vector<std::uint32_t> next(positions.size(), kNone);   // chain of vertices per cell
+    std::vector<std::uint32_t> next(positions.size(), kNone);  // chain of vertices per cell
     const double toleranceSquared = tolerance * tolerance;
     for (std::uint32_t v = 0; v < positions.size(); ++v) {
       if (!referenced[v]) continue;
       const Eigen::Vector3d scaled = (positions[v] - origin) / cellSize;
-      const Cell cell{static_cast<std::int64_t>(std::floor(scaled.x())), static_cast<std::int64_t>(std::floor(scaled.y())),
+      const Cell cell{static_cast<std::int64_t>(std::floor(scaled.x())),
+                      static_cast<std::int64_t>(std::floor(scaled.y())),
                       static_cast<std::int64_t>(std::floor(scaled.z()))};
       Cell side{};
       for (int i = 0; i < 3; ++i) side[i] = scaled[i] - static_cast<double>(cell[i]) < 0.5 ? -1 : 1;
@@ -139,7 +153,8 @@ std::vector<std::uint32_t> weldVertices(const std::vector<Eigen::Vector3d>& posi
       // cells never hold more than a few mutually distant vertices: no quadratic chains.
       bool welded = false;
       for (int corner = 0; corner < 8; ++corner) {
-        const Cell probe{cell[0] + ((corner & 1) ? side[0] : 0), cell[1] + ((corner & 2) ? side[1] : 0),
+        const Cell probe{cell[0] + ((corner & 1) ? side[0] : 0),
+                         cell[1] + ((corner & 2) ? side[1] : 0),
                          cell[2] + ((corner & 4) ? side[2] : 0)};
         const auto it = cellHead.find(probe);
         if (it == cellHead.end()) continue;
@@ -164,13 +179,15 @@ std::vector<std::uint32_t> weldVertices(const std::vector<Eigen::Vector3d>& posi
 
 bool isZeroArea(const std::vector<Eigen::Vector3d>& positions, const Triangle& t) {
   const Eigen::Vector3d &a = positions[t[0]], &b = positions[t[1]], &c = positions[t[2]];
-  const double longest = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+  const double longest =
+      std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
   return !((b - a).cross(c - a).norm() > 1e-12 * longest);
 }
 
 // The triangles with their input face, filtered in place by `keep`.
 template <typename Keep>
-std::size_t filterTriangles(std::vector<Triangle>& tris, std::vector<std::uint32_t>& origin, Keep keep) {
+std::size_t filterTriangles(std::vector<Triangle>& tris, std::vector<std::uint32_t>& origin,
+                            Keep keep) {
   std::size_t kept = 0;
   for (std::size_t t = 0; t < tris.size(); ++t) {
     if (!keep(t)) continue;
@@ -186,12 +203,12 @@ std::size_t filterTriangles(std::vector<Triangle>& tris, std::vector<std::uint32
 
 // Splits non-manifold edges and vertices: vertices get one copy per fan of triangles, where fans
 // are joined across two-triangle edges and, for an edge with more triangles, across consistently
-// oriented pairs of them only (so each pair ends up on its own copy of the edge). Appends copies to `positions` and records the
-// input vertex of each in `source`. Repeats while edges with more than two triangles remain
-// (a few rounds at most; anything left is refused by add_face and counted).
-// Returns the edge table of the final triangles.
+// oriented pairs of them only (so each pair ends up on its own copy of the edge). Copies are
+// appended to `positions`. Repeats while edges with more than two triangles remain (a few rounds
+// at most; anything left is refused by add_face and counted). Returns the edge table of the
+// final triangles.
 EdgeTable splitNonManifold(std::vector<Triangle>& tris, std::vector<Eigen::Vector3d>& positions,
-                           std::vector<std::uint32_t>& source, RepairCounts& counts) {
+                           RepairCounts& counts) {
   constexpr int kMaxRounds = 4;
   for (int round = 0; round < kMaxRounds; ++round) {
     EdgeTable edges = detail::buildEdgeTable(tris);
@@ -228,7 +245,6 @@ EdgeTable splitNonManifold(std::vector<Triangle>& tris, std::vector<Eigen::Vecto
       if (vertexOfFan[fan] == kNone) {
         vertexOfFan[fan] = static_cast<std::uint32_t>(positions.size());
         positions.push_back(positions[v]);
-        source.push_back(source[v]);
         ++added;
         split[v] = true;
       }
@@ -236,9 +252,10 @@ EdgeTable splitNonManifold(std::vector<Triangle>& tris, std::vector<Eigen::Vecto
     }
     counts.splitNonManifoldEdges += splitEdges;
     counts.addedVertices += added;
-    for (std::size_t v = 0; v < split.size(); ++v) counts.splitNonManifoldVertices += split[v] && !onSplitEdge[v];
+    for (std::size_t v = 0; v < split.size(); ++v)
+      counts.splitNonManifoldVertices += split[v] && !onSplitEdge[v];
     if (splitEdges == 0 && added == 0) return edges;  // nothing changed: the table still holds
-    if (splitEdges == 0) break;  // one round settles non-manifold vertices
+    if (splitEdges == 0) break;                       // one round settles non-manifold vertices
   }
   return detail::buildEdgeTable(tris);
 }
@@ -246,8 +263,10 @@ EdgeTable splitNonManifold(std::vector<Triangle>& tris, std::vector<Eigen::Vecto
 // Orients every edge-connected patch consistently and counts the flips: closed patches outward
 // (positive signed volume) when `outward`, other patches toward the majority of their triangles.
 // Refuses non-orientable patches.
-void orientPatches(std::vector<Triangle>& tris, const EdgeTable& edges, const std::vector<std::uint32_t>& origin,
-                   const std::vector<Eigen::Vector3d>& positions, bool outward, RepairCounts& counts) {
+void orientPatches(std::vector<Triangle>& tris, const EdgeTable& edges,
+                   const std::vector<std::uint32_t>& origin,
+                   const std::vector<Eigen::Vector3d>& positions, bool outward,
+                   RepairCounts& counts) {
   detail::Orientation orientation = detail::propagateOrientation(tris, edges);
   const std::size_t patchCount = orientation.conflict.size();
   std::vector<std::size_t> size(patchCount, 0), reversed(patchCount, 0);
@@ -257,18 +276,21 @@ void orientPatches(std::vector<Triangle>& tris, const EdgeTable& edges, const st
     const std::uint32_t p = orientation.patch[t];
     ++size[p];
     reversed[p] += orientation.sign[t] < 0;
-    const Eigen::Vector3d &a = positions[tris[t][0]], &b = positions[tris[t][1]], &c = positions[tris[t][2]];
+    const Eigen::Vector3d &a = positions[tris[t][0]], &b = positions[tris[t][1]],
+                          &c = positions[tris[t][2]];
     volume[p] += orientation.sign[t] * a.dot(b.cross(c));
   }
   for (std::size_t e = 0; e < edges.edgeCount(); ++e)
-    if (edges.valence(e) == 1) open[orientation.patch[edges.halfedges[edges.edgeStarts[e]] / 3]] = true;
+    if (edges.valence(e) == 1)
+      open[orientation.patch[edges.halfedges[edges.edgeStarts[e]] / 3]] = true;
   for (std::size_t p = 0; p < patchCount; ++p) {
     const std::uint32_t t = orientation.conflict[p];
     if (t != kNone)
-      throw Error(ErrorCode::InvalidMesh,
-                  "non-orientable component: the " + std::to_string(size[p]) +
-                      " triangles connected to input face " + std::to_string(origin[t]) +
-                      " cannot be oriented consistently (a Moebius-like strip); repair cannot fix this");
+      throw Error(
+          ErrorCode::InvalidMesh,
+          "non-orientable component: the " + std::to_string(size[p]) +
+              " triangles connected to input face " + std::to_string(origin[t]) +
+              " cannot be oriented consistently (a Moebius-like strip); repair cannot fix this");
   }
   std::vector<bool> invert(patchCount, false);
   for (std::size_t p = 0; p < patchCount; ++p)
@@ -279,6 +301,25 @@ void orientPatches(std::vector<Triangle>& tris, const EdgeTable& edges, const st
     std::swap(tris[t][1], tris[t][2]);
     ++counts.flippedFaces;
   }
+}
+
+// With repair off, names every repair the mesh would need.
+void refuseRepairs(const RepairCounts& counts) {
+  std::string needed;
+  const auto need = [&](std::size_t count, const char* what) {
+    if (count == 0) return;
+    needed += (needed.empty() ? "" : ", ") + std::to_string(count) + " " + what;
+  };
+  need(counts.weldedVertices, "vertices to weld");
+  need(counts.droppedDegenerateFaces, "degenerate faces");
+  need(counts.droppedDuplicateFaces, "duplicate faces");
+  need(counts.droppedUnreferencedVertices, "unreferenced vertices");
+  need(counts.splitNonManifoldEdges, "non-manifold edges");
+  need(counts.splitNonManifoldVertices, "non-manifold vertices");
+  need(counts.flippedFaces, "faces to flip for a consistent orientation");
+  need(counts.facesRefusedByMesh, "faces the half-edge mesh refuses");
+  if (!needed.empty())
+    throw Error(ErrorCode::InvalidMesh, "repair is off but the mesh needs it: " + needed);
 }
 
 }  // namespace
@@ -319,7 +360,8 @@ RepairedMesh repairMesh(const PolygonSoup& soup, const RepairOptions& options) {
   const double diagonal = tris.empty() ? 0.0 : (hi - lo).norm();
   const std::vector<std::uint32_t> representative =
       weldVertices(soup.positions, referenced, lo, diagonal, options.weldTolerance * diagonal);
-  for (std::size_t v = 0; v < soup.vertexCount(); ++v) counts.weldedVertices += representative[v] != v;
+  for (std::size_t v = 0; v < soup.vertexCount(); ++v)
+    counts.weldedVertices += representative[v] != v;
   for (auto& t : tris)
     for (auto& v : t) v = representative[v];
 
@@ -340,13 +382,12 @@ RepairedMesh repairMesh(const PolygonSoup& soup, const RepairOptions& options) {
     std::vector<bool> duplicate(tris.size(), false);
     for (std::size_t i = 1; i < sorted.size(); ++i)
       if (sorted[i].first == sorted[i - 1].first) duplicate[sorted[i].second] = true;
-    counts.droppedDuplicateFaces += filterTriangles(tris, origin, [&](std::size_t t) { return !duplicate[t]; });
+    counts.droppedDuplicateFaces +=
+        filterTriangles(tris, origin, [&](std::size_t t) { return !duplicate[t]; });
   }
 
   // Split non-manifold edges and vertices, then orient.
-  std::vector<std::uint32_t> source(soup.vertexCount());
-  std::iota(source.begin(), source.end(), 0u);
-  const EdgeTable edges = splitNonManifold(tris, positions, source, counts);
+  const EdgeTable edges = splitNonManifold(tris, positions, counts);
   orientPatches(tris, edges, origin, positions, /*outward=*/options.repair, counts);
 
   // Drop unreferenced vertices (input order kept, split copies after) and build the mesh.
@@ -368,20 +409,14 @@ RepairedMesh repairMesh(const PolygonSoup& soup, const RepairOptions& options) {
   for (std::size_t v = 0; v < positions.size(); ++v)
     if (newIndex[v] != kNone) handles[newIndex[v]] = mesh.add_vertex(toOpenMesh(positions[v]));
   for (const auto& t : tris) {
-    const auto fh = mesh.add_face(handles[newIndex[t[0]]], handles[newIndex[t[1]]], handles[newIndex[t[2]]]);
+    const auto fh =
+        mesh.add_face(handles[newIndex[t[0]]], handles[newIndex[t[1]]], handles[newIndex[t[2]]]);
     counts.facesRefusedByMesh += !fh.is_valid();
   }
-  counts.droppedFaces = counts.droppedDegenerateFaces + counts.droppedDuplicateFaces + counts.facesRefusedByMesh;
+  counts.droppedFaces =
+      counts.droppedDegenerateFaces + counts.droppedDuplicateFaces + counts.facesRefusedByMesh;
 
-  if (!options.repair) {
-    const bool clean = counts.weldedVertices == 0 && counts.droppedFaces == 0 &&
-                       counts.droppedUnreferencedVertices == 0 && counts.addedVertices == 0 &&
-                       counts.splitNonManifoldEdges == 0 && counts.flippedFaces == 0;
-    if (!clean)
-      throw Error(ErrorCode::InvalidMesh,
-                  "the mesh needs repair (duplicate, degenerate or unreferenced elements, non-manifold "
-                  "or inconsistently oriented parts) and repair is off");
-  }
+  if (!options.repair) refuseRepairs(counts);
   report.repaired = options.repair;
   report.result = measureMesh(toPolygonSoup(mesh));
   return out;

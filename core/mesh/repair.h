@@ -14,16 +14,17 @@
 //     this is impossible is non-orientable and refused;
 //  7. drop unreferenced vertices, build the OpenMesh mesh and check every add_face.
 
+#include <cstddef>
+
 #include "core/mesh/mesh.h"
 #include "core/mesh/report.h"
-
-#include <cstddef>
 
 namespace hexcover {
 
 struct RepairOptions {
-  /// When false, nothing is changed: the soup must already be a clean, manifold, consistently
-  /// oriented triangle mesh, or repairMesh refuses it (naming the first defect).
+  /// When false, nothing is changed except that polygons are triangulated: the soup must already
+  /// be clean, manifold and consistently oriented, or repairMesh refuses it (listing the repairs
+  /// it would need). Orientation is then left as it is (no outward flip of closed components).
   bool repair = true;
   /// Weld distance relative to the bounding-box diagonal of the referenced vertices; 0 welds
   /// only exactly coincident vertices.

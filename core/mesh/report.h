@@ -25,13 +25,13 @@ struct ComponentTopology {
 /// What one mesh looks like: sizes, topology and defects. Topology is measured on the polygons
 /// fan-triangulated, without welding (as the file stores it).
 struct MeshStatistics {
-  std::size_t vertices = 0;            ///< vertex records, referenced or not
-  std::size_t faces = 0;               ///< polygons as stored
-  std::size_t nonTriangleFaces = 0;    ///< polygons with more than 3 corners
-  std::size_t triangles = 0;           ///< after triangulating polygons (Σ (corners − 2))
-  std::size_t components = 0;          ///< connected components of faces
-  std::size_t boundaryLoops = 0;       ///< loops of edges with exactly one incident triangle
-  long long eulerCharacteristic = 0;   ///< Σ over components
+  std::size_t vertices = 0;           ///< vertex records, referenced or not
+  std::size_t faces = 0;              ///< polygons as stored
+  std::size_t nonTriangleFaces = 0;   ///< polygons with more than 3 corners
+  std::size_t triangles = 0;          ///< after triangulating polygons (Σ (corners − 2))
+  std::size_t components = 0;         ///< connected components of faces
+  std::size_t boundaryLoops = 0;      ///< loops of edges with exactly one incident triangle
+  long long eulerCharacteristic = 0;  ///< Σ over components
   std::vector<ComponentTopology> componentTopology;  ///< one entry per component, largest first
 
   std::size_t nonManifoldEdges = 0;      ///< edges with more than two incident triangles
@@ -64,10 +64,10 @@ struct RepairCounts {
 
 /// The full report: the input as found, what repair did, and the result.
 struct MeshReport {
-  MeshStatistics input;    ///< as found (validateMesh)
-  bool repaired = false;   ///< whether repair ran (then `repairs` and `result` are filled)
+  MeshStatistics input;   ///< as found (validateMesh)
+  bool repaired = false;  ///< whether repair ran (then `repairs` and `result` are filled)
   RepairCounts repairs;
-  MeshStatistics result;   ///< the repaired triangle mesh
+  MeshStatistics result;  ///< the repaired triangle mesh
 };
 
 }  // namespace hexcover

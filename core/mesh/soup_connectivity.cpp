@@ -1,11 +1,11 @@
 #include "core/mesh/soup_connectivity.h"
 
-#include "core/common/error.h"
-
 #include <algorithm>
 #include <functional>
 #include <string>
 #include <utility>
+
+#include "core/common/error.h"
 
 namespace hexcover::detail {
 
@@ -13,15 +13,18 @@ void checkSoupStructure(const PolygonSoup& soup, bool checkIndices) {
   const auto& starts = soup.faceStarts;
   if (starts.empty() || starts.front() != 0 || starts.back() != soup.cornerVertices.size() ||
       std::adjacent_find(starts.begin(), starts.end(), std::greater<>()) != starts.end())
-    throw Error(ErrorCode::InvalidMesh, "malformed polygon soup: faceStarts must rise from 0 to the corner count");
+    throw Error(ErrorCode::InvalidMesh,
+                "malformed polygon soup: faceStarts must rise from 0 to the corner count");
   if (!soup.cornerTexcoords.empty() && soup.cornerTexcoords.size() != soup.cornerVertices.size())
-    throw Error(ErrorCode::InvalidMesh, "malformed polygon soup: cornerTexcoords must be empty or one per corner");
+    throw Error(ErrorCode::InvalidMesh,
+                "malformed polygon soup: cornerTexcoords must be empty or one per corner");
   if (!checkIndices) return;
   for (std::size_t f = 0; f < soup.faceCount(); ++f)
     for (std::size_t c = starts[f]; c < starts[f + 1]; ++c)
       if (soup.cornerVertices[c] >= soup.vertexCount())
         throw Error(ErrorCode::InvalidMesh, "face " + std::to_string(f) + " refers to vertex " +
-                                                std::to_string(soup.cornerVertices[c]) + ", but the mesh has only " +
+                                                std::to_string(soup.cornerVertices[c]) +
+                                                ", but the mesh has only " +
                                                 std::to_string(soup.vertexCount()) + " vertices");
 }
 
@@ -30,7 +33,8 @@ EdgeTable buildEdgeTable(const std::vector<Triangle>& triangles) {
   // (upper vertex, half-edge): O(#half-edges) instead of a global sort.
   const std::size_t halfedgeCount = 3 * triangles.size();
   std::uint32_t vertexCount = 0;
-  for (const auto& t : triangles) vertexCount = std::max({vertexCount, t[0] + 1, t[1] + 1, t[2] + 1});
+  for (const auto& t : triangles)
+    vertexCount = std::max({vertexCount, t[0] + 1, t[1] + 1, t[2] + 1});
   std::vector<std::uint32_t> bucketStart(vertexCount + 1, 0);
   const auto lower = [&](std::uint32_t h) {
     return std::min(halfedgeTail(triangles, h), halfedgeHead(triangles, h));
@@ -95,8 +99,10 @@ UnionFind cornerFans(const std::vector<Triangle>& triangles,
     const std::uint32_t tg = g / 3;
     for (std::uint32_t i = 0; i < 3; ++i) {
       const std::uint32_t v = triangles[tg][i];
-      if (v == tail) fans.unite(h, 3 * tg + i);
-      else if (v == head) fans.unite(3 * (h / 3) + (h % 3 + 1) % 3, 3 * tg + i);
+      if (v == tail)
+        fans.unite(h, 3 * tg + i);
+      else if (v == head)
+        fans.unite(3 * (h / 3) + (h % 3 + 1) % 3, 3 * tg + i);
     }
   }
   return fans;
@@ -129,7 +135,8 @@ Orientation propagateOrientation(const std::vector<Triangle>& triangles, const E
         if (g == UINT32_MAX) continue;
         // Consistent neighbours traverse the shared edge in opposite directions.
         const bool sameDirection = halfedgeTail(triangles, h) == halfedgeTail(triangles, g);
-        const auto want = static_cast<std::int8_t>(sameDirection ? -result.sign[t] : result.sign[t]);
+        const auto want =
+            static_cast<std::int8_t>(sameDirection ? -result.sign[t] : result.sign[t]);
         const std::uint32_t u = g / 3;
         if (result.sign[u] == 0) {
           result.sign[u] = want;

@@ -2,12 +2,12 @@
 // Internal to core/mesh: connectivity of a triangle soup given as index triples, shared by
 // validation and repair. Not a public header of the stage.
 
-#include "core/mesh/mesh.h"
-
 #include <array>
 #include <cstdint>
 #include <numeric>
 #include <vector>
+
+#include "core/mesh/mesh.h"
 
 namespace hexcover::detail {
 
@@ -31,8 +31,10 @@ class UnionFind {
   void unite(std::uint32_t a, std::uint32_t b) {
     a = find(a);
     b = find(b);
-    if (a < b) parent_[b] = a;
-    else if (b < a) parent_[a] = b;
+    if (a < b)
+      parent_[b] = a;
+    else if (b < a)
+      parent_[a] = b;
   }
 
  private:
@@ -43,8 +45,9 @@ class UnionFind {
 /// to corner (i+1) mod 3. Half-edges are grouped by undirected edge; within an edge they are in
 /// increasing order (so by triangle index).
 struct EdgeTable {
-  std::vector<std::uint32_t> halfedges;   ///< #half-edges, grouped by edge
-  std::vector<std::uint32_t> edgeStarts;  ///< #edges+1: edge e owns halfedges[edgeStarts[e], edgeStarts[e+1])
+  std::vector<std::uint32_t> halfedges;  ///< #half-edges, grouped by edge
+  std::vector<std::uint32_t>
+      edgeStarts;  ///< #edges+1: edge e owns halfedges[edgeStarts[e], edgeStarts[e+1])
 
   std::size_t edgeCount() const { return edgeStarts.size() - 1; }
   std::size_t valence(std::size_t e) const { return edgeStarts[e + 1] - edgeStarts[e]; }

@@ -2,15 +2,15 @@
 // triangle with its own three points: corners are welded by exact position, so that a closed
 // surface comes out connected.
 
-#include "core/mesh/mesh_readers.h"
-#include "core/mesh/text_scanner.h"
-
 #include <algorithm>
 #include <array>
 #include <bit>
 #include <cstring>
 #include <string>
 #include <unordered_map>
+
+#include "core/mesh/mesh_readers.h"
+#include "core/mesh/text_scanner.h"
 
 namespace hexcover::detail {
 namespace {
@@ -24,7 +24,8 @@ class ExactWelder {
   explicit ExactWelder(PolygonSoup& soup) : soup_(soup) {}
   std::uint32_t index(const Eigen::Vector3d& p) {
     const Key key{bits(p.x()), bits(p.y()), bits(p.z())};
-    const auto [it, inserted] = indices_.try_emplace(key, static_cast<std::uint32_t>(soup_.positions.size()));
+    const auto [it, inserted] =
+        indices_.try_emplace(key, static_cast<std::uint32_t>(soup_.positions.size()));
     if (inserted) soup_.positions.push_back(p);
     return it->second;
   }
@@ -57,18 +58,21 @@ std::uint32_t readUint32LE(const char* p) {
 
 PolygonSoup parseBinaryStl(std::string_view bytes, const ReadOptions& options) {
   if (bytes.size() < kHeaderBytes + 4)
-    throw Error(ErrorCode::MalformedInput, "STL: truncated binary data: " + std::to_string(bytes.size()) +
-                                               " bytes, shorter than the 84-byte header");
+    throw Error(ErrorCode::MalformedInput,
+                "STL: truncated binary data: " + std::to_string(bytes.size()) +
+                    " bytes, shorter than the 84-byte header");
   const std::uint64_t count = readUint32LE(bytes.data() + kHeaderBytes);
   if (count > options.maxFaces)
-    throw Error(ErrorCode::LimitExceeded, "STL: header (byte offset 80) declares " + std::to_string(count) +
-                                              " triangles, over the limit of " + std::to_string(options.maxFaces));
+    throw Error(ErrorCode::LimitExceeded,
+                "STL: header (byte offset 80) declares " + std::to_string(count) +
+                    " triangles, over the limit of " + std::to_string(options.maxFaces));
   const std::uint64_t expected = kHeaderBytes + 4 + kTriangleBytes * count;
   if (bytes.size() < expected)
     throw Error(ErrorCode::MalformedInput,
-                "STL: truncated binary data: the header declares " + std::to_string(count) + " triangles (" +
-                    std::to_string(expected) + " bytes) but the data ends at byte offset " +
-                    std::to_string(bytes.size()) + ", inside triangle " +
+                "STL: truncated binary data: the header declares " + std::to_string(count) +
+                    " triangles (" + std::to_string(expected) +
+                    " bytes) but the data ends at byte offset " + std::to_string(bytes.size()) +
+                    ", inside triangle " +
                     std::to_string((bytes.size() - kHeaderBytes - 4) / kTriangleBytes));
   PolygonSoup soup;
   ExactWelder welder(soup);
@@ -81,8 +85,9 @@ PolygonSoup parseBinaryStl(std::string_view bytes, const ReadOptions& options) {
       Eigen::Vector3d p;
       for (int i = 0; i < 3; ++i) p[i] = readFloatLE(record + 12 * corner + 4 * i);
       if (!p.allFinite())
-        throw Error(ErrorCode::InvalidMesh, "STL: triangle " + std::to_string(t) + " (byte offset " +
-                                                std::to_string(offset) + ") has a NaN or infinite coordinate");
+        throw Error(ErrorCode::InvalidMesh, "STL: triangle " + std::to_string(t) +
+                                                " (byte offset " + std::to_string(offset) +
+                                                ") has a NaN or infinite coordinate");
       soup.cornerVertices.push_back(welder.index(p));
     }
     soup.faceStarts.push_back(static_cast<std::uint32_t>(soup.cornerVertices.size()));
@@ -92,7 +97,8 @@ PolygonSoup parseBinaryStl(std::string_view bytes, const ReadOptions& options) {
 
 bool equalsIgnoringCase(std::string_view a, std::string_view b) {
   return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
-           return std::tolower(static_cast<unsigned char>(x)) == std::tolower(static_cast<unsigned char>(y));
+           return std::tolower(static_cast<unsigned char>(x)) ==
+                  std::tolower(static_cast<unsigned char>(y));
          });
 }
 
@@ -140,10 +146,12 @@ PolygonSoup parseAsciiStl(std::string_view text, const ReadOptions& options) {
         const std::string_view token = tokens.next();
         if (!parseDouble(token, p[i]))
           failAtLine(ErrorCode::MalformedInput, kFormat, lines.lineNumber(),
-                     "vertex needs 3 numbers, got " + (token.empty() ? std::string("end of line") : quoted(token)));
+                     "vertex needs 3 numbers, got " +
+                         (token.empty() ? std::string("end of line") : quoted(token)));
       }
       if (!p.allFinite())
-        failAtLine(ErrorCode::InvalidMesh, kFormat, lines.lineNumber(), "vertex has a NaN or infinite coordinate");
+        failAtLine(ErrorCode::InvalidMesh, kFormat, lines.lineNumber(),
+                   "vertex has a NaN or infinite coordinate");
       if (soup.positions.size() >= options.maxVertices)
         failAtLine(ErrorCode::LimitExceeded, kFormat, lines.lineNumber(),
                    "more than " + std::to_string(options.maxVertices) + " vertices");
@@ -159,12 +167,14 @@ PolygonSoup parseAsciiStl(std::string_view text, const ReadOptions& options) {
     } else if (equalsIgnoringCase(keyword, "endfacet")) {
       expect(inSolid && !inLoop, "inside a loop");
     } else {
-      failAtLine(ErrorCode::MalformedInput, kFormat, lines.lineNumber(), "unknown keyword " + quoted(keyword));
+      failAtLine(ErrorCode::MalformedInput, kFormat, lines.lineNumber(),
+                 "unknown keyword " + quoted(keyword));
     }
   }
   if (inLoop || inSolid)
-    failAtLine(ErrorCode::MalformedInput, kFormat, lines.lineNumber(),
-               inLoop ? "the file ends inside a facet" : "the file ends inside a solid (no endsolid)");
+    failAtLine(
+        ErrorCode::MalformedInput, kFormat, lines.lineNumber(),
+        inLoop ? "the file ends inside a facet" : "the file ends inside a solid (no endsolid)");
   if (solids == 0) throw Error(ErrorCode::MalformedInput, "STL: no solid in the file");
   return soup;
 }
@@ -187,7 +197,8 @@ PolygonSoup parseStl(std::string_view bytes, const ReadOptions& options) {
   // A binary file may have a header starting with "solid": the size decides, and a NUL byte
   // (never in text) marks a truncated binary file whose header starts with "solid".
   const bool looksBinary = bytes.substr(0, 1024).find('\0') != std::string_view::npos;
-  if (hasBinaryStlSize(bytes) || looksBinary || !startsWithSolid(bytes)) return parseBinaryStl(bytes, options);
+  if (hasBinaryStlSize(bytes) || looksBinary || !startsWithSolid(bytes))
+    return parseBinaryStl(bytes, options);
   return parseAsciiStl(bytes, options);
 }
 

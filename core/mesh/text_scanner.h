@@ -2,14 +2,14 @@
 // Internal to core/mesh: a scanner over the bytes of a text mesh file that yields lines and
 // whitespace-separated tokens and knows the current line number, for error messages.
 
-#include "core/common/error.h"
-
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <string>
 #include <string_view>
+
+#include "core/common/error.h"
 
 namespace hexcover::detail {
 

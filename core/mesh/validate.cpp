@@ -1,11 +1,11 @@
 #include "core/mesh/validate.h"
 
-#include "core/mesh/soup_connectivity.h"
-
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <span>
+
+#include "core/mesh/soup_connectivity.h"
 
 namespace hexcover {
 namespace {
@@ -23,7 +23,8 @@ bool isDegenerateFace(const PolygonSoup& soup, std::size_t f) {
   for (const auto v : corners)
     if (v >= soup.vertexCount()) return true;
   if (n == 3) {
-    if (corners[0] == corners[1] || corners[1] == corners[2] || corners[0] == corners[2]) return true;
+    if (corners[0] == corners[1] || corners[1] == corners[2] || corners[0] == corners[2])
+      return true;
   } else {
     std::vector<std::uint32_t> sorted(corners.begin(), corners.end());
     std::sort(sorted.begin(), sorted.end());
@@ -55,15 +56,16 @@ std::size_t countDuplicateFaces(const PolygonSoup& soup) {
   }
   std::sort(hashed.begin(), hashed.end());
   const auto face = [&](std::uint32_t f) {
-    return std::span<const std::uint32_t>(sortedCorners.data() + soup.faceStarts[f], soup.faceSize(f));
+    return std::span<const std::uint32_t>(sortedCorners.data() + soup.faceStarts[f],
+                                          soup.faceSize(f));
   };
   std::size_t duplicates = 0;
   for (std::size_t i = 0; i < hashed.size();) {
     std::size_t j = i + 1;
     while (j < hashed.size() && hashed[j].first == hashed[i].first) ++j;
     // Within a run of equal hashes, order the faces and count those equal to their predecessor.
-    std::sort(hashed.begin() + static_cast<std::ptrdiff_t>(i), hashed.begin() + static_cast<std::ptrdiff_t>(j),
-              [&](const auto& a, const auto& b) {
+    std::sort(hashed.begin() + static_cast<std::ptrdiff_t>(i),
+              hashed.begin() + static_cast<std::ptrdiff_t>(j), [&](const auto& a, const auto& b) {
                 const auto fa = face(a.second), fb = face(b.second);
                 return std::lexicographical_compare(fa.begin(), fa.end(), fb.begin(), fb.end());
               });
@@ -148,10 +150,13 @@ MeshStatistics measureMesh(const PolygonSoup& soup) {
   for (std::uint32_t c = 0; c < 3 * tris.size(); ++c) {
     const std::uint32_t v = tris[c / 3][c % 3];
     const std::uint32_t fan = fans.find(c);
-    if (firstFan[v] == UINT32_MAX) firstFan[v] = fan;
-    else if (firstFan[v] != fan) nonManifoldVertex[v] = true;
+    if (firstFan[v] == UINT32_MAX)
+      firstFan[v] = fan;
+    else if (firstFan[v] != fan)
+      nonManifoldVertex[v] = true;
   }
-  for (std::size_t v = 0; v < soup.vertexCount(); ++v) stats.nonManifoldVertices += nonManifoldVertex[v];
+  for (std::size_t v = 0; v < soup.vertexCount(); ++v)
+    stats.nonManifoldVertices += nonManifoldVertex[v];
 
   // Orientation: a patch where propagation conflicts makes its component non-orientable.
   std::vector<bool> componentNonOrientable(soup.vertexCount(), false);
@@ -193,7 +198,8 @@ MeshStatistics measureMesh(const PolygonSoup& soup) {
     comp.eulerCharacteristic = static_cast<long long>(comp.vertices) -
                                static_cast<long long>(comp.edges) +
                                static_cast<long long>(comp.faces);
-    const long long twiceGenus = 2 - comp.eulerCharacteristic - static_cast<long long>(comp.boundaryLoops);
+    const long long twiceGenus =
+        2 - comp.eulerCharacteristic - static_cast<long long>(comp.boundaryLoops);
     comp.genus = comp.manifold && comp.orientable && twiceGenus >= 0 && twiceGenus % 2 == 0
                      ? static_cast<int>(twiceGenus / 2)
                      : -1;

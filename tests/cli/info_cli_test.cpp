@@ -1,11 +1,6 @@
 // The `hexcover info` and `hexcover convert` commands, run as the built binary (HEXCOVER_CLI).
 
-#include "core/mesh/io.h"
-#include "core/mesh/primitives.h"
-
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
-
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -13,8 +8,12 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+
+#include "core/mesh/io.h"
+#include "core/mesh/primitives.h"
 
 namespace hexcover {
 namespace {
@@ -46,8 +45,8 @@ class CliTest : public ::testing::Test {
   // Runs `hexcover <arguments>` with stdout and stderr captured in files.
   CommandResult hexcover(const std::string& arguments) const {
     const auto out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-    const std::string command = std::string("'") + HEXCOVER_CLI + "' " + arguments + " >'" + out.string() +
-                                "' 2>'" + err.string() + "'";
+    const std::string command = std::string("'") + HEXCOVER_CLI + "' " + arguments + " >'" +
+                                out.string() + "' 2>'" + err.string() + "'";
     const int raw = std::system(command.c_str());
     return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
   }
@@ -75,7 +74,8 @@ TEST_F(CliTest, InfoPrintsTheReportOfAGeneratedMeshAsOneJsonObject) {
 TEST_F(CliTest, InfoReportsRepairsOfADefectiveMesh) {
   // A unit square stored as two triangles with separate corners and one duplicate.
   const auto path = dir_ / "square.obj";
-  std::ofstream(path) << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 4 5 6\nf 3 1 2\n";
+  std::ofstream(path)
+      << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 4 5 6\nf 3 1 2\n";
   const CommandResult run = hexcover("info '" + path.string() + "'");
   ASSERT_EQ(run.status, 0) << run.err;
   const nlohmann::json report = nlohmann::json::parse(run.out);
@@ -120,7 +120,8 @@ TEST_F(CliTest, ConvertWritesTheFormatOfTheOutputExtension) {
   EXPECT_EQ(back.cornerVertices, sphere.cornerVertices);
   ASSERT_EQ(hexcover("convert '" + ply.string() + "' '" + stl.string() + "'").status, 0);
   EXPECT_EQ(readMesh(stl).faceCount(), sphere.faceCount());
-  const CommandResult bad = hexcover("convert '" + obj.string() + "' '" + (dir_ / "x.fbx").string() + "'");
+  const CommandResult bad =
+      hexcover("convert '" + obj.string() + "' '" + (dir_ / "x.fbx").string() + "'");
   EXPECT_EQ(bad.status, 1);
   EXPECT_NE(bad.err.find(".fbx"), std::string::npos) << bad.err;
 }

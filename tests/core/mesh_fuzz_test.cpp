@@ -2,11 +2,6 @@
 // changes of files in every format either parse (and then repair or are refused) or throw
 // hexcover::Error. Deterministic (fixed seeds) and small, so it runs in well under a second.
 
-#include "core/common/error.h"
-#include "core/mesh/io.h"
-#include "core/mesh/primitives.h"
-#include "core/mesh/repair.h"
-
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -14,6 +9,11 @@
 #include <random>
 #include <sstream>
 #include <string>
+
+#include "core/common/error.h"
+#include "core/mesh/io.h"
+#include "core/mesh/primitives.h"
+#include "core/mesh/repair.h"
 
 namespace hexcover {
 namespace {
@@ -59,21 +59,26 @@ std::vector<std::pair<std::string, std::string>> samples() {
     result.emplace_back(name, fileBytes(dir / name));
   }
   std::filesystem::remove_all(dir);
-  result.emplace_back("ascii.ply",
-                      "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
-                      "property float z\nproperty uchar red\nelement face 2\nproperty list uchar int vertex_indices\n"
-                      "element tristrips 1\nproperty list int int vertex_indices\nend_header\n"
-                      "0 0 0 1\n1 0 0 1\n1 1 0 1\n0 1 0 1\n3 0 1 2\n3 0 2 3\n6 0 1 2 -1 2 3\n");
-  result.emplace_back("ascii.stl",
-                      "solid a\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 1 1 0\n"
-                      "endloop\nendfacet\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 1 0\n"
-                      "vertex 0 1 0\nendloop\nendfacet\nendsolid a\n");
-  result.emplace_back("textured.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nf 1/1/1 2/2/1 3/-1/1\n");
+  result.emplace_back(
+      "ascii.ply",
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+      "property float z\nproperty uchar red\nelement face 2\nproperty list uchar int "
+      "vertex_indices\n"
+      "element tristrips 1\nproperty list int int vertex_indices\nend_header\n"
+      "0 0 0 1\n1 0 0 1\n1 1 0 1\n0 1 0 1\n3 0 1 2\n3 0 2 3\n6 0 1 2 -1 2 3\n");
+  result.emplace_back(
+      "ascii.stl",
+      "solid a\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 1 1 0\n"
+      "endloop\nendfacet\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 1 0\n"
+      "vertex 0 1 0\nendloop\nendfacet\nendsolid a\n");
+  result.emplace_back("textured.obj",
+                      "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nf 1/1/1 2/2/1 3/-1/1\n");
   return result;
 }
 
 TEST(MeshFuzz, SamplesParseBeforeTheyAreDamaged) {
-  for (const auto& [name, bytes] : samples()) EXPECT_EQ(readAndRepair(bytes), Outcome::Parsed) << name;
+  for (const auto& [name, bytes] : samples())
+    EXPECT_EQ(readAndRepair(bytes), Outcome::Parsed) << name;
 }
 
 TEST(MeshFuzz, TruncationsParseOrThrowError) {
@@ -99,7 +104,8 @@ TEST(MeshFuzz, RandomByteChangesParseOrThrowError) {
       std::string damaged = bytes;
       const int changes = 1 + trial % 4;
       for (int c = 0; c < changes; ++c)
-        damaged[position(random)] = trial % 2 ? static_cast<char>(byte(random)) : interesting[pick(random)];
+        damaged[position(random)] =
+            trial % 2 ? static_cast<char>(byte(random)) : interesting[pick(random)];
       readAndRepair(damaged);
     }
   }
@@ -113,9 +119,12 @@ TEST(MeshFuzz, HugeDeclaredSizesAreRefusedQuickly) {
   }();
   for (const std::string& bytes :
        {std::string("OFF\n100000000000 1 0\n"), std::string("OFF\n3 99999999999999 0\n0 0 0\n"),
-        std::string("ply\nformat binary_big_endian 1.0\nelement vertex 999999999999\nproperty float x\nend_header\n"),
-        std::string("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
-                    "element face 1\nproperty list uint int vertex_indices\nend_header\n0 0 0\n4000000000 0 0 0\n"),
+        std::string("ply\nformat binary_big_endian 1.0\nelement vertex 999999999999\nproperty "
+                    "float x\nend_header\n"),
+        std::string("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float "
+                    "y\nproperty float z\n"
+                    "element face 1\nproperty list uint int vertex_indices\nend_header\n0 0 "
+                    "0\n4000000000 0 0 0\n"),
         hugeStl}) {
     EXPECT_EQ(readAndRepair(bytes), Outcome::Refused) << bytes.substr(0, 40);
   }

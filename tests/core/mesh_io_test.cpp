@@ -1,9 +1,5 @@
 // Readers, writers and format detection (core/mesh/io.h) on small byte strings written in the test.
 
-#include "core/common/error.h"
-#include "core/mesh/io.h"
-#include "core/mesh/primitives.h"
-
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -14,6 +10,10 @@
 #include <fstream>
 #include <string>
 #include <vector>
+
+#include "core/common/error.h"
+#include "core/mesh/io.h"
+#include "core/mesh/primitives.h"
 
 namespace hexcover {
 namespace {
@@ -34,7 +34,8 @@ Error expectError(F parse, ErrorCode code) {
 }
 
 std::vector<std::uint32_t> faceCorners(const PolygonSoup& soup, std::size_t f) {
-  return {soup.cornerVertices.begin() + soup.faceStarts[f], soup.cornerVertices.begin() + soup.faceStarts[f + 1]};
+  return {soup.cornerVertices.begin() + soup.faceStarts[f],
+          soup.cornerVertices.begin() + soup.faceStarts[f + 1]};
 }
 
 // --- little helpers that write binary data -------------------------------------------------
@@ -43,12 +44,14 @@ template <typename T>
 void append(std::string& out, T value, bool bigEndian = false) {
   char bytes[sizeof(T)];
   std::memcpy(bytes, &value, sizeof(T));
-  if (bigEndian == (std::endian::native == std::endian::little)) std::reverse(bytes, bytes + sizeof(T));
+  if (bigEndian == (std::endian::native == std::endian::little))
+    std::reverse(bytes, bytes + sizeof(T));
   out.append(bytes, sizeof(T));
 }
 
 // Binary STL of the given triangles (9 floats each) with a chosen 80-byte header text.
-std::string binaryStl(const std::vector<std::array<float, 9>>& triangles, const std::string& header) {
+std::string binaryStl(const std::vector<std::array<float, 9>>& triangles,
+                      const std::string& header) {
   std::string out = header;
   out.resize(80, ' ');
   append(out, static_cast<std::uint32_t>(triangles.size()));
@@ -61,16 +64,18 @@ std::string binaryStl(const std::vector<std::array<float, 9>>& triangles, const 
 }
 
 // Unit square as two triangles sharing the diagonal (0,0,0)-(1,1,0).
-const std::vector<std::array<float, 9>> kSquare = {{0, 0, 0, 1, 0, 0, 1, 1, 0}, {0, 0, 0, 1, 1, 0, 0, 1, 0}};
+const std::vector<std::array<float, 9>> kSquare = {{0, 0, 0, 1, 0, 0, 1, 1, 0},
+                                                   {0, 0, 0, 1, 1, 0, 0, 1, 0}};
 
 // Binary PLY (either byte order) of a square with extra vertex properties of several types, a
 // per-face property before the index list and a uint16 list count with uint32 indices.
 std::string binaryPly(bool bigEndian) {
-  std::string out = "ply\nformat "s + (bigEndian ? "binary_big_endian" : "binary_little_endian") +
-                    " 1.0\ncomment test\nelement vertex 4\nproperty uchar red\nproperty float x\n"
-                    "property double y\nproperty short s\nproperty float z\nproperty list uchar int extra\n"
-                    "element face 2\nproperty int flags\nproperty list ushort uint vertex_indices\n"
-                    "element material 3\nproperty float shininess\nend_header\n";
+  std::string out =
+      "ply\nformat "s + (bigEndian ? "binary_big_endian" : "binary_little_endian") +
+      " 1.0\ncomment test\nelement vertex 4\nproperty uchar red\nproperty float x\n"
+      "property double y\nproperty short s\nproperty float z\nproperty list uchar int extra\n"
+      "element face 2\nproperty int flags\nproperty list ushort uint vertex_indices\n"
+      "element material 3\nproperty float shininess\nend_header\n";
   const double xy[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
   for (const auto& p : xy) {
     append(out, std::uint8_t{200}, bigEndian);
@@ -82,7 +87,8 @@ std::string binaryPly(bool bigEndian) {
     append(out, std::int32_t{1}, bigEndian);
     append(out, std::int32_t{2}, bigEndian);
   }
-  for (const auto& face : {std::array<std::uint32_t, 3>{0, 1, 2}, std::array<std::uint32_t, 3>{0, 2, 3}}) {
+  for (const auto& face :
+       {std::array<std::uint32_t, 3>{0, 1, 2}, std::array<std::uint32_t, 3>{0, 2, 3}}) {
     append(out, std::int32_t{5}, bigEndian);
     append(out, std::uint16_t{3}, bigEndian);
     for (const auto v : face) append(out, v, bigEndian);
@@ -104,7 +110,8 @@ TEST(MeshFormatDetection, RecognisesEachFormatFromItsBytes) {
 }
 
 TEST(MeshFormatDetection, RefusesUnknownAndEmptyData) {
-  const Error e = expectError([] { detectFormat("hello world\nthis is not a mesh\n"); }, ErrorCode::UnknownFormat);
+  const Error e = expectError([] { detectFormat("hello world\nthis is not a mesh\n"); },
+                              ErrorCode::UnknownFormat);
   EXPECT_NE(std::string(e.what()).find("hello world"), std::string::npos) << e.what();
   expectError([] { detectFormat(""); }, ErrorCode::UnknownFormat);
   expectError([] { detectFormat("\x89PNG\r\n\x1a\n"); }, ErrorCode::UnknownFormat);
@@ -122,7 +129,8 @@ TEST(MeshFormatDetection, ExtensionsAreCaseInsensitiveAndUnknownOnesRefused) {
 // --- OBJ -------------------------------------------------------------------------------------
 
 TEST(ObjReader, KeepsPolygonsAndResolvesNegativeIndices) {
-  const PolygonSoup soup = parseMesh("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf -4 -3 -2 -1\nv 2 0 0\nf 2 5 3\n");
+  const PolygonSoup soup =
+      parseMesh("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf -4 -3 -2 -1\nv 2 0 0\nf 2 5 3\n");
   ASSERT_EQ(soup.vertexCount(), 5u);
   ASSERT_EQ(soup.faceCount(), 2u);
   EXPECT_EQ(faceCorners(soup, 0), (std::vector<std::uint32_t>{0, 1, 2, 3}));
@@ -132,12 +140,14 @@ TEST(ObjReader, KeepsPolygonsAndResolvesNegativeIndices) {
 
 TEST(ObjReader, ReadsCornerTriplesWithTextureCoordinates) {
   const PolygonSoup soup = parseMesh(
-      "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.25 0.5\nvt 1 0\nvn 0 0 1\nf 1/2/1 2/1/1 3/-1/1\nf 1//1 2//1 3//1\n");
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.25 0.5\nvt 1 0\nvn 0 0 1\nf 1/2/1 2/1/1 3/-1/1\nf 1//1 2//1 "
+      "3//1\n");
   ASSERT_EQ(soup.faceCount(), 2u);
   EXPECT_EQ(faceCorners(soup, 1), (std::vector<std::uint32_t>{0, 1, 2}));
   // One face lacks texture coordinates: corner texcoords are all-or-nothing.
   EXPECT_TRUE(soup.cornerTexcoords.empty());
-  const PolygonSoup textured = parseMesh("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.25 0.5\nvt 1 0\nf 1/2/1 2/1/1 3/-1/1\n");
+  const PolygonSoup textured =
+      parseMesh("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.25 0.5\nvt 1 0\nf 1/2/1 2/1/1 3/-1/1\n");
   ASSERT_EQ(textured.cornerTexcoords.size(), 3u);
   EXPECT_EQ(textured.cornerTexcoords[0], Eigen::Vector2d(1, 0));
   EXPECT_EQ(textured.cornerTexcoords[1], Eigen::Vector2d(0.25, 0.5));
@@ -156,10 +166,12 @@ TEST(ObjReader, HandlesCommentsContinuationsCrlfAndIgnoredStatements) {
 }
 
 TEST(ObjReader, OutOfRangeIndexNamesTheLine) {
-  const Error e = expectError([] { parseMesh("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"); }, ErrorCode::MalformedInput);
+  const Error e = expectError([] { parseMesh("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"); },
+                              ErrorCode::MalformedInput);
   EXPECT_NE(std::string(e.what()).find("line 4"), std::string::npos) << e.what();
   EXPECT_NE(std::string(e.what()).find("out of range"), std::string::npos) << e.what();
-  const Error negative = expectError([] { parseMesh("v 0 0 0\nf -1 -2 -3\n"); }, ErrorCode::MalformedInput);
+  const Error negative =
+      expectError([] { parseMesh("v 0 0 0\nf -1 -2 -3\n"); }, ErrorCode::MalformedInput);
   EXPECT_NE(std::string(negative.what()).find("line 2"), std::string::npos) << negative.what();
 }
 
@@ -191,7 +203,8 @@ TEST(OffReader, ReadsCommentsColoursAndCountsOnTheHeaderLine) {
   ASSERT_EQ(soup.faceCount(), 2u);
   EXPECT_EQ(faceCorners(soup, 0), (std::vector<std::uint32_t>{0, 1, 2, 3}));
   EXPECT_EQ(soup.positions[2], Eigen::Vector3d(1, 1, 0));
-  const PolygonSoup normals = parseMesh("NOFF\n3 1 3\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n3 0 1 2\n");
+  const PolygonSoup normals =
+      parseMesh("NOFF\n3 1 3\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n3 0 1 2\n");
   EXPECT_EQ(normals.faceCount(), 1u);
 }
 
@@ -200,14 +213,17 @@ TEST(OffReader, OutOfRangeIndexAndTruncationNameTheLine) {
                                   ErrorCode::MalformedInput);
   EXPECT_NE(std::string(range.what()).find("line 6"), std::string::npos) << range.what();
   EXPECT_NE(std::string(range.what()).find("out of range"), std::string::npos) << range.what();
-  const Error truncated = expectError([] { parseMesh("OFF\n3 1 0\n0 0 0\n1 0 0\n"); }, ErrorCode::MalformedInput);
-  EXPECT_NE(std::string(truncated.what()).find("end of file"), std::string::npos) << truncated.what();
+  const Error truncated =
+      expectError([] { parseMesh("OFF\n3 1 0\n0 0 0\n1 0 0\n"); }, ErrorCode::MalformedInput);
+  EXPECT_NE(std::string(truncated.what()).find("end of file"), std::string::npos)
+      << truncated.what();
   expectError([] { parseMesh("4OFF\n1 0 0\n0 0 0 0\n"); }, ErrorCode::MalformedInput);
 }
 
 TEST(OffReader, HugeDeclaredCountsAreRefusedBeforeAllocating) {
   const auto start = std::chrono::steady_clock::now();
-  const Error e = expectError([] { parseMesh("OFF\n3 1000000000000 0\n0 0 0\n"); }, ErrorCode::LimitExceeded);
+  const Error e =
+      expectError([] { parseMesh("OFF\n3 1000000000000 0\n0 0 0\n"); }, ErrorCode::LimitExceeded);
   EXPECT_NE(std::string(e.what()).find("1000000000000"), std::string::npos) << e.what();
   // Under the limit but far more than the text holds: the reader runs out of text, quickly.
   expectError([] { parseMesh("OFF\n4000000 0 0\n0 0 0\n"); }, ErrorCode::MalformedInput);
@@ -218,7 +234,8 @@ TEST(OffReader, HugeDeclaredCountsAreRefusedBeforeAllocating) {
 
 TEST(PlyReader, ReadsAsciiWithExtraPropertiesCrlfAndOtherElements) {
   const PolygonSoup soup = parseMesh(
-      "ply\r\nformat ascii 1.0\r\ncomment c\r\nobj_info i\r\nelement vertex 4\r\nproperty float x\r\n"
+      "ply\r\nformat ascii 1.0\r\ncomment c\r\nobj_info i\r\nelement vertex 4\r\nproperty float "
+      "x\r\n"
       "property float y\r\nproperty float z\r\nproperty uchar red\r\nelement face 2\r\n"
       "property uchar intensity\r\nproperty list uchar int vertex_indices\r\nelement edge 1\r\n"
       "property int vertex1\r\nproperty int vertex2\r\nend_header\r\n"
@@ -243,7 +260,8 @@ TEST(PlyReader, BinaryLittleAndBigEndianGiveTheSameMesh) {
 TEST(PlyReader, TriangleStripsRestartAtMinusOneAndKeepOrientation) {
   // Strip 0 1 2 3 gives (0,1,2) and (2,1,3); after -1, strip 4 5 6 gives (4,5,6).
   const PolygonSoup soup = parseMesh(
-      "ply\nformat ascii 1.0\nelement vertex 7\nproperty float x\nproperty float y\nproperty float z\n"
+      "ply\nformat ascii 1.0\nelement vertex 7\nproperty float x\nproperty float y\nproperty float "
+      "z\n"
       "element tristrips 1\nproperty list int int vertex_indices\nend_header\n"
       "0 0 0\n1 0 0\n0 1 0\n1 1 0\n5 5 0\n6 5 0\n5 6 0\n8 0 1 2 3 -1 4 5 6\n");
   ASSERT_EQ(soup.faceCount(), 3u);
@@ -265,19 +283,26 @@ TEST(PlyReader, TruncatedBinaryDataNamesTheByteOffset) {
 TEST(PlyReader, HeaderWithoutDataIsTruncatedNotOverread) {
   // The file ends right after "end_header" (no newline): the data offset lies past the end.
   for (const std::string format : {"binary_little_endian", "ascii"}) {
-    const Error e = expectError([&] {
-      parseMesh("ply\nformat " + format + " 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-                "property float z\nend_header");
-    }, ErrorCode::MalformedInput);
+    const Error e = expectError(
+        [&] {
+          parseMesh("ply\nformat " + format +
+                    " 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                    "property float z\nend_header");
+        },
+        ErrorCode::MalformedInput);
     EXPECT_NE(std::string(e.what()).find("truncated"), std::string::npos) << e.what();
   }
 }
 
 TEST(PlyReader, HugeCountsAreRefusedWithoutAllocating) {
-  const std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
-                             "property float y\nproperty float z\nelement face ";
-  expectError([&] { parseMesh(header + "1000000000000\nproperty list uchar int vertex_indices\nend_header\n"); },
-              ErrorCode::LimitExceeded);
+  const std::string header =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nelement face ";
+  expectError(
+      [&] {
+        parseMesh(header + "1000000000000\nproperty list uchar int vertex_indices\nend_header\n");
+      },
+      ErrorCode::LimitExceeded);
   // A list that claims 4·10^9 indices in a file of a few bytes.
   std::string body = header + "1\nproperty list uint int vertex_indices\nend_header\n";
   for (int i = 0; i < 9; ++i) append(body, 0.0f);
@@ -285,33 +310,47 @@ TEST(PlyReader, HugeCountsAreRefusedWithoutAllocating) {
   const Error e = expectError([&] { parseMesh(body); }, ErrorCode::MalformedInput);
   EXPECT_NE(std::string(e.what()).find("list length"), std::string::npos) << e.what();
   // An element of 10^12 records with a property: truncated, not a 10^12-step loop.
-  expectError([] {
-    parseMesh("ply\nformat binary_little_endian 1.0\nelement junk 1000000000000\nproperty int a\nend_header\n");
-  }, ErrorCode::MalformedInput);
+  expectError(
+      [] {
+        parseMesh(
+            "ply\nformat binary_little_endian 1.0\nelement junk 1000000000000\nproperty int "
+            "a\nend_header\n");
+      },
+      ErrorCode::MalformedInput);
 }
 
 TEST(PlyReader, BadIndicesAndHeadersAreReported) {
-  const Error e = expectError([] {
-    parseMesh("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-              "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n");
-  }, ErrorCode::MalformedInput);
+  const Error e = expectError(
+      [] {
+        parseMesh(
+            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
+            "float z\n"
+            "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 "
+            "0\n3 0 1 3\n");
+      },
+      ErrorCode::MalformedInput);
   EXPECT_NE(std::string(e.what()).find("line 13"), std::string::npos) << e.what();
   EXPECT_NE(std::string(e.what()).find("out of range"), std::string::npos) << e.what();
   expectError([] { parseMesh("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n"); },
               ErrorCode::MalformedInput);  // no end_header
-  expectError([] { parseMesh("ply\nformat ascii 1.0\nelement vertex 1\nproperty quaternion q\nend_header\n"); },
-              ErrorCode::MalformedInput);
+  expectError(
+      [] {
+        parseMesh("ply\nformat ascii 1.0\nelement vertex 1\nproperty quaternion q\nend_header\n");
+      },
+      ErrorCode::MalformedInput);
 }
 
 // --- STL -------------------------------------------------------------------------------------
 
 TEST(StlReader, AsciiWithSeveralSolidsAndMixedCaseIsWeldedByPosition) {
-  const std::string facet = "facet normal 0 0 1\n outer loop\n  vertex 0 0 0\n  vertex 1 0 0\n  vertex 1 1 0\n"
-                            " endloop\nendfacet\n";
-  const PolygonSoup soup = parseMesh(
-      "solid first part\n" + facet +
-      "FACET NORMAL 0 0 1\n OUTER LOOP\n  VERTEX 0 0 0\n  VERTEX 1 1 0\n  VERTEX 0 1 0\n ENDLOOP\nENDFACET\n"
-      "endsolid first part\nSolid second\n" + facet + "EndSolid second\n");
+  const std::string facet =
+      "facet normal 0 0 1\n outer loop\n  vertex 0 0 0\n  vertex 1 0 0\n  vertex 1 1 0\n"
+      " endloop\nendfacet\n";
+  const PolygonSoup soup = parseMesh("solid first part\n" + facet +
+                                     "FACET NORMAL 0 0 1\n OUTER LOOP\n  VERTEX 0 0 0\n  VERTEX 1 "
+                                     "1 0\n  VERTEX 0 1 0\n ENDLOOP\nENDFACET\n"
+                                     "endsolid first part\nSolid second\n" +
+                                     facet + "EndSolid second\n");
   EXPECT_EQ(soup.faceCount(), 3u);
   EXPECT_EQ(soup.vertexCount(), 4u);  // corners at the same position share a vertex
   EXPECT_EQ(faceCorners(soup, 1), (std::vector<std::uint32_t>{0, 2, 3}));
@@ -332,12 +371,17 @@ TEST(StlReader, TruncatedBinaryAndBrokenAsciiAreReported) {
   const Error e = expectError([&] { parseMesh(bytes); }, ErrorCode::MalformedInput);
   EXPECT_NE(std::string(e.what()).find("truncated binary data"), std::string::npos) << e.what();
   EXPECT_NE(std::string(e.what()).find("byte offset"), std::string::npos) << e.what();
-  const Error ascii = expectError([] { parseMesh("solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0\n"); },
-                                  ErrorCode::MalformedInput);
+  const Error ascii =
+      expectError([] { parseMesh("solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0\n"); },
+                  ErrorCode::MalformedInput);
   EXPECT_NE(std::string(ascii.what()).find("line 4"), std::string::npos) << ascii.what();
-  expectError([] { parseMesh("solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
-                             "vertex 0 1 0\nendloop\nendfacet\n"); },
-              ErrorCode::MalformedInput);  // no endsolid
+  expectError(
+      [] {
+        parseMesh(
+            "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+            "vertex 0 1 0\nendloop\nendfacet\n");
+      },
+      ErrorCode::MalformedInput);  // no endsolid
 }
 
 // --- writers and round trips ----------------------------------------------------------------
@@ -370,8 +414,8 @@ PolygonSoup polygonSample() {
 
 TEST(MeshWriters, ObjOffAndPlyRoundTripsAreExact) {
   const TempDir dir;
-  for (const PolygonSoup& original : {toPolygonSoup(makeIcosphere(2, 1.7)), toPolygonSoup(makeTorus(3, 1, 12, 8)),
-                                      polygonSample()}) {
+  for (const PolygonSoup& original : {toPolygonSoup(makeIcosphere(2, 1.7)),
+                                      toPolygonSoup(makeTorus(3, 1, 12, 8)), polygonSample()}) {
     for (const std::string name : {"mesh.obj", "mesh.off", "mesh.ply"}) {
       SCOPED_TRACE(name);
       writeMesh(original, dir / name);
@@ -404,7 +448,8 @@ TEST(MeshWriters, ObjWritesOneTextureCoordinatePerCorner) {
   const TempDir dir;
   PolygonSoup soup = polygonSample();
   for (std::size_t c = 0; c < soup.cornerVertices.size(); ++c)
-    soup.cornerTexcoords.emplace_back(0.125 * static_cast<double>(c), 1.0 - 0.0625 * static_cast<double>(c));
+    soup.cornerTexcoords.emplace_back(0.125 * static_cast<double>(c),
+                                      1.0 - 0.0625 * static_cast<double>(c));
   writeMesh(soup, dir / "textured.obj");
   const PolygonSoup back = readMesh(dir / "textured.obj");
   EXPECT_EQ(back.cornerVertices, soup.cornerVertices);
@@ -418,7 +463,8 @@ TEST(MeshWriters, UnknownExtensionAndUnwritablePathAreErrors) {
   expectError([&] { readMesh(dir / "missing.obj"); }, ErrorCode::Io);
   PolygonSoup outOfRange = polygonSample();
   outOfRange.cornerVertices[2] = 42;
-  const Error e = expectError([&] { writeMesh(outOfRange, dir / "bad.stl"); }, ErrorCode::InvalidMesh);
+  const Error e =
+      expectError([&] { writeMesh(outOfRange, dir / "bad.stl"); }, ErrorCode::InvalidMesh);
   EXPECT_NE(std::string(e.what()).find("vertex 42"), std::string::npos) << e.what();
 }
 

@@ -2,16 +2,16 @@
 // topology; each nasty/ mesh is repaired with the expected repairs in its report, or refused with
 // an error that names the defect.
 
-#include "core/common/error.h"
-#include "core/mesh/load.h"
-#include "core/mesh/validate.h"
-#include "tests/common/test_meshes.h"
-
 #include <gtest/gtest.h>
 
 #include <functional>
 #include <map>
 #include <string>
+
+#include "core/common/error.h"
+#include "core/mesh/load.h"
+#include "core/mesh/validate.h"
+#include "tests/common/test_meshes.h"
 
 namespace hexcover {
 namespace {
@@ -53,7 +53,8 @@ TEST(SharedMeshes, CleanMeshesLoadWithTheirListedTopology) {
   };
   HEXCOVER_SHARED_MESH_OR_SKIP(probe, "clean/spot.obj");
   const auto files = test::sharedMeshGroup("clean");
-  EXPECT_EQ(files.size(), expected.size()) << "a clean mesh was added or removed: update this table";
+  EXPECT_EQ(files.size(), expected.size())
+      << "a clean mesh was added or removed: update this table";
   for (const auto& path : files) {
     SCOPED_TRACE(path.filename().string());
     const auto it = expected.find(path.filename().string());
@@ -177,7 +178,8 @@ TEST(SharedMeshes, EveryNastyMeshIsRepairedOrRefusedWithANamedDefect) {
   HEXCOVER_SHARED_MESH_OR_SKIP(probe, "nasty/gc_fan3_nonmanifold_edge.obj");
   const auto cases = nastyExpectations();
   const auto files = test::sharedMeshGroup("nasty");
-  EXPECT_EQ(files.size(), cases.size()) << "a nasty mesh was added or removed: update the expectations";
+  EXPECT_EQ(files.size(), cases.size())
+      << "a nasty mesh was added or removed: update the expectations";
   for (const auto& path : files) {
     SCOPED_TRACE(path.filename().string());
     const auto it = cases.find(path.filename().string());
@@ -188,7 +190,8 @@ TEST(SharedMeshes, EveryNastyMeshIsRepairedOrRefusedWithANamedDefect) {
         ADD_FAILURE() << "expected a refusal";
       } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find(it->second.refusal), std::string::npos) << e.what();
-        EXPECT_NE(std::string(e.what()).find(path.filename().string()), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find(path.filename().string()), std::string::npos)
+            << e.what();
       }
       continue;
     }
