@@ -13,22 +13,22 @@ std::vector<double> filterGaussCurvature(const TriMesh& mesh, const FieldGeometr
   const int nv = static_cast<int>(mesh.n_vertices());
   std::vector<double> k(nv, 0.0), share(nv, 0.0), next(nv, 0.0);
   std::vector<int> degree(nv, 0);
-  for (const auto vh : mesh.vertices()) {
-    if (mesh.is_boundary(vh) || mesh.is_isolated(vh)) continue;
-    k[vh.idx()] = geometry.angleDefect[vh.idx()];
-    for (const auto w : vh.vertices())
-      if (!mesh.is_boundary(w)) ++degree[vh.idx()];
+  std::vector<std::pair<int, int>> links;  // edges between interior vertices
+  links.reserve(mesh.n_edges());
+  for (const auto vh : mesh.vertices())
+    if (!mesh.is_boundary(vh) && !mesh.is_isolated(vh)) k[vh.idx()] = geometry.angleDefect[vh.idx()];
+  for (const auto eh : mesh.edges()) {
+    if (mesh.is_boundary(eh.v0()) || mesh.is_boundary(eh.v1())) continue;
+    links.emplace_back(eh.v0().idx(), eh.v1().idx());
+    ++degree[eh.v0().idx()];
+    ++degree[eh.v1().idx()];
   }
   for (int step = 0; step < steps; ++step) {
     for (int v = 0; v < nv; ++v) {
       share[v] = degree[v] > 0 ? 0.5 * k[v] / degree[v] : 0.0;
       next[v] = degree[v] > 0 ? 0.5 * k[v] : k[v];
     }
-    for (const auto eh : mesh.edges()) {
-      const int a = eh.v0().idx(), b = eh.v1().idx();
-      if (degree[a] == 0 || degree[b] == 0 || mesh.is_boundary(eh.v0()) ||
-          mesh.is_boundary(eh.v1()))
-        continue;
+    for (const auto& [a, b] : links) {
       next[a] += share[b];
       next[b] += share[a];
     }
