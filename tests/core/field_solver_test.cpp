@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <array>
 #include <cmath>
 #include <cstring>
 
@@ -152,6 +153,51 @@ TEST(FieldSolver, RunsAreBitIdentical) {
                         first.faceDirection.size() * sizeof(Eigen::Vector3d)),
             0);
   EXPECT_EQ(first.edgeMatching, second.edgeMatching);
+}
+
+TEST(FieldSolver, EveryComponentSatisfiesPoincareHopfOnItsOwn) {
+  // A sphere (χ = 2, no constraints: smoothest field), a torus (χ = 0) and a flat patch
+  // (χ = 1, boundary-aligned) in one mesh: each component is solved with its own gauge.
+  TriMesh mesh = makeIcosphere(2);
+  const auto append = [&mesh](const TriMesh& part, const Eigen::Vector3d& offset) {
+    std::vector<TriMesh::VertexHandle> handles;
+    for (const auto vh : part.vertices())
+      handles.push_back(mesh.add_vertex(toOpenMesh(toEigen(part.point(vh)) + offset)));
+    for (const auto fh : part.faces()) {
+      std::vector<TriMesh::VertexHandle> corners;
+      for (const auto vh : part.fv_range(fh)) corners.push_back(handles[vh.idx()]);
+      mesh.add_face(corners);
+    }
+  };
+  append(makeTorus(2.0, 0.6, 40, 16), {6.0, 0.0, 0.0});
+  append(makeEquilateralGrid(8, 8, 0.3), {0.0, 6.0, 0.0});
+  const RosyField field = computeRosyField(mesh);
+  EXPECT_EQ(field.eulerCharacteristic, 3);
+  std::array<int, 3> sum{};
+  for (const auto& s : field.singularities) {
+    const double x = s.position.x(), y = s.position.y();
+    sum[x > 3.0 ? 1 : y > 3.0 ? 2 : 0] += s.index;
+  }
+  EXPECT_EQ(sum[0], 12);
+  EXPECT_EQ(sum[1], 0);
+  EXPECT_EQ(sum[2], 6);
+  expectUnitTangentDirections(mesh, field);
+}
+
+TEST(FieldSolver, ClusteredRunsAreBitIdentical) {
+  HEXCOVER_SHARED_MESH_OR_SKIP(path, "clean/bunny_7k.off");
+  const TriMesh mesh = loadMesh(path);
+  const RosyField first = computeRosyField(mesh);
+  const RosyField second = computeRosyField(mesh);
+  ASSERT_LT(first.singularities.size(), static_cast<std::size_t>(first.singularitiesInitial));
+  EXPECT_EQ(std::memcmp(first.faceDirection.data(), second.faceDirection.data(),
+                        first.faceDirection.size() * sizeof(Eigen::Vector3d)),
+            0);
+  ASSERT_EQ(first.singularities.size(), second.singularities.size());
+  for (std::size_t i = 0; i < first.singularities.size(); ++i) {
+    EXPECT_EQ(first.singularities[i].vertex, second.singularities[i].vertex);
+    EXPECT_EQ(first.singularities[i].index, second.singularities[i].index);
+  }
 }
 
 TEST(FieldSolver, RejectsBadOptionsByName) {
