@@ -92,6 +92,9 @@ const std::vector<Setting>& settings() {
       {"cors-origins", "HEXCOVER_CORS_ORIGINS",
        "comma-separated origins allowed by CORS, * for any, empty for none (default *)",
        [](ServerConfig& c, const std::string& v) { c.corsOrigins = splitList(v); }},
+      {"web-root", "HEXCOVER_WEB_ROOT",
+       "folder of the web front-end served at / (default: web next to the executable)",
+       [](ServerConfig& c, const std::string& v) { c.webRoot = v; }},
   };
   return table;
 }

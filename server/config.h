@@ -33,6 +33,9 @@ struct ServerConfig {
   int keepAliveSeconds = 5;  ///< --keep-alive, HEXCOVER_KEEP_ALIVE (idle, bounds stop())
   std::vector<std::string> corsOrigins = {
       "*"};  ///< --cors-origins, HEXCOVER_CORS_ORIGINS (comma list)
+  /// --web-root, HEXCOVER_WEB_ROOT: the web front-end served at `/`; empty: the folder `web`
+  /// next to the executable (server/web_assets.h).
+  std::filesystem::path webRoot;
 
   /// The worker count to use: `workers`, or usableCpuCount() when it is 0.
   int effectiveWorkers() const;

@@ -13,6 +13,7 @@
 #include "api/problem.h"
 #include "server/openapi_document.h"
 #include "server/upload.h"
+#include "server/web_assets.h"
 
 namespace hexcover::server {
 
@@ -536,6 +537,9 @@ void HttpServer::installRoutes() {
                   return got > 0 && sink.write(buffer, std::size_t(got));
                 });
           }));
+
+  // The web front-end at `/`, after the API so that its routes never shadow one.
+  mountWebAssets(svr, config_.webRoot.empty() ? defaultWebRoot() : config_.webRoot);
 }
 
 }  // namespace hexcover::server

@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "server/config.h"
+#include "server/health_probe.h"
 #include "server/http_server.h"
 #include "server/job_service.h"
 #include "server/log.h"
@@ -28,13 +29,16 @@ int main(int argc, char** argv) {
       std::cout << usage();
       return 0;
     }
+  // `--health-check [flags]`: probe the running server's /readyz (the container's HEALTHCHECK).
+  const int healthCheck = argc > 1 && std::string_view(argv[1]) == "--health-check" ? 1 : 0;
   ServerConfig config;
   try {
-    config = parseConfig(argc, argv, hexcoverEnvironment());
+    config = parseConfig(argc - healthCheck, argv + healthCheck, hexcoverEnvironment());
   } catch (const ConfigError& e) {
     std::cerr << "hexcover-server: " << e.what() << "\n\n" << usage();
     return 2;
   }
+  if (healthCheck) return probeHealth(config);
 
   // Each worker runs one job; linear algebra libraries must not start threads of their own.
   for (const char* variable : {"OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"})

@@ -154,7 +154,7 @@ export class MeshViewer {
     this.setLayer('remeshSurface', 'remesh', new THREE.Mesh(surfaceGeometry(mesh), surfaceMaterial(0xc9d6c3)));
     this.setLayer('remeshWireframe', 'remesh', edgeLines(mesh, 0x1b2a1b, 0.6));
     this.irregular = irregularVertices(mesh, regularValence);
-    const radius = 0.35 * meanEdgeLength(mesh);
+    const radius = 0.25 * meanEdgeLength(mesh);
     const markers = new THREE.Group();
     markers.add(markerSpheres(mesh, this.irregular.below, radius, kValenceColours.below));
     markers.add(markerSpheres(mesh, this.irregular.above, radius, kValenceColours.above));

@@ -159,8 +159,9 @@ try {
     assert.ok(s.colours > 50, `${half} half of the canvas is flat (${s.colours} colours)`);
   }
 
-  // The screenshot for the README: textured input beside the remesh with its hexagonal dual.
-  if (await page.isEnabled('#show-texture')) await page.check('#show-texture');
+  // The screenshot for the README: textured input beside the remesh's hexagonal dual.
+  await page.check('#show-texture');
+  await page.uncheck('#show-wireframe');
   await page.check('#show-dual');
   await page.waitForTimeout(500);
   fs.mkdirSync(path.dirname(args.screenshot), { recursive: true });
