@@ -1,0 +1,54 @@
+// Remesh options from JSON: names and types checked with the option named in the message,
+// defaults kept, the normalized form round-trips.
+
+#include "api/options_json.h"
+
+#include <gtest/gtest.h>
+
+namespace hexcover::api {
+namespace {
+
+std::string errorOf(const nlohmann::json& options) {
+  try {
+    remeshOptionsFromJson(options);
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::InvalidOption);
+    return e.what();
+  }
+  return "";
+}
+
+TEST(OptionsJson, EmptyObjectGivesThePipelineDefaults) {
+  const RemeshOptions options = remeshOptionsFromJson(nlohmann::json::object());
+  const RemeshOptions defaults;
+  EXPECT_EQ(options.rosy, defaults.rosy);
+  EXPECT_EQ(options.sizing, defaults.sizing);
+  EXPECT_FALSE(options.edgeLength);
+  EXPECT_FALSE(options.targetVertices);
+  EXPECT_FALSE(options.dSing);
+}
+
+TEST(OptionsJson, ValuesAreReadAndNormalizedFormRoundTrips) {
+  const auto options = remeshOptionsFromJson(
+      {{"edge_length", 0.05}, {"rosy", 6}, {"sizing", "curvature"}, {"d_sing", 0.3}});
+  EXPECT_DOUBLE_EQ(*options.edgeLength, 0.05);
+  EXPECT_EQ(options.sizing, Sizing::Curvature);
+  EXPECT_DOUBLE_EQ(*options.dSing, 0.3);
+  const auto json = toJson(options);
+  EXPECT_EQ(json.at("sizing"), "curvature");
+  EXPECT_TRUE(json.at("vertices").is_null());
+  EXPECT_EQ(toJson(remeshOptionsFromJson(json)), json);
+  EXPECT_EQ(*remeshOptionsFromJson({{"vertices", 2000.0}}).targetVertices, 2000);
+}
+
+TEST(OptionsJson, BadNamesAndTypesNameTheOption) {
+  EXPECT_NE(errorOf({{"speed", 3}}).find("'speed'"), std::string::npos);
+  EXPECT_NE(errorOf({{"rosy", "six"}}).find("'rosy'"), std::string::npos);
+  EXPECT_NE(errorOf({{"vertices", 10.5}}).find("'vertices'"), std::string::npos);
+  EXPECT_NE(errorOf({{"sizing", "adaptive"}}).find("'sizing'"), std::string::npos);
+  EXPECT_NE(errorOf({{"edge_length", "1mm"}}).find("'edge_length'"), std::string::npos);
+  EXPECT_NE(errorOf(nlohmann::json::array()).find("object"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace hexcover::api

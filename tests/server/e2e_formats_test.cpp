@@ -1,0 +1,64 @@
+// End to end against the real hexcover-server: every input format, raw and multipart, remeshed;
+// every result format downloaded, parsed and compared with the metrics document.
+
+#include <gtest/gtest.h>
+
+#include "tests/common/test_meshes.h"
+#include "tests/server/e2e_helpers.h"
+#include "tests/server/in_process_server.h"
+#include "tests/server/server_process.h"
+
+namespace hexcover::server::test {
+namespace {
+
+struct Input {
+  std::string name;
+  std::string format;
+  std::string bytes;
+};
+
+void remeshAllAndCheck(const std::vector<Input>& inputs) {
+  TempDir dir;
+  ServerProcess server(dir.path() / "data", {"--workers", "2"});
+  ASSERT_TRUE(server.started()) << server.log();
+  auto client = server.client();
+
+  std::vector<std::pair<std::string, std::string>> jobs;  // (what, location)
+  for (const auto& input : inputs)
+    for (const bool multipart : {false, true}) {
+      const auto res = upload(client, input.bytes, multipart, input.name);
+      ASSERT_TRUE(res);
+      ASSERT_EQ(res->status, 202) << input.name << ": " << res->body;
+      EXPECT_EQ(nlohmann::json::parse(res->body).at("input").at("format"), input.format);
+      jobs.emplace_back(input.name + (multipart ? " (multipart)" : " (raw)"),
+                        res->get_header_value("Location"));
+    }
+  for (const auto& [what, location] : jobs) {
+    SCOPED_TRACE(what);
+    const auto job = waitForJob(client, location, std::chrono::seconds(120));
+    ASSERT_EQ(job.value("state", ""), "succeeded") << job.dump();
+    expectResultsAgreeWithMetrics(client, job, dir.path());
+  }
+}
+
+TEST(EndToEnd, GeneratedIcosphereInEveryFormatRawAndMultipartRemeshesWithParsableResults) {
+  HEXCOVER_SERVER_OR_SKIP();
+  TempDir meshes;
+  std::vector<Input> inputs;
+  for (const std::string format : {"obj", "off", "ply", "stl"}) {
+    const auto path = writeIcosphere(meshes.path(), "icosphere." + format, 3);
+    inputs.push_back({path.filename().string(), format, readFile(path)});
+  }
+  remeshAllAndCheck(inputs);
+}
+
+TEST(EndToEnd, SharedCleanMeshOfEachStoredFormatRemeshesWithParsableResults) {
+  HEXCOVER_SERVER_OR_SKIP();
+  // clean/ stores OBJ and OFF; the smallest of each keeps the suite fast.
+  HEXCOVER_SHARED_MESH_OR_SKIP(off, "clean/venus_1k.off");
+  HEXCOVER_SHARED_MESH_OR_SKIP(obj, "clean/spot.obj");
+  remeshAllAndCheck({{"venus_1k.off", "off", readFile(off)}, {"spot.obj", "obj", readFile(obj)}});
+}
+
+}  // namespace
+}  // namespace hexcover::server::test
