@@ -4,11 +4,11 @@
 Module::
 
     from hexcover_client import Client
-    client = Client("http://localhost:8080")
-    job = client.submit("bunny.obj", vertices=5000)
-    job = client.wait(job["id"], on_progress=print)
-    client.download(job["id"], "remesh.obj", mesh="triangles", format="obj")
-    print(client.metrics(job["id"])["hausdorff_pct"])
+    with Client("http://localhost:8080") as client:
+        job = client.submit("bunny.obj", vertices=5000)
+        job = client.wait(job["id"], on_progress=print)
+        client.download(job["id"], "remesh.obj", mesh="triangles", format="obj")
+        print(client.metrics(job["id"])["hausdorff_pct"])
 
 Command line (metrics go to stdout as JSON, progress to stderr)::
 
@@ -68,6 +68,16 @@ class Client:
         self.timeout = timeout
         self.session = requests.Session()
         self.session.headers["Accept"] = "application/json"
+
+    def close(self) -> None:
+        """Closes the pooled connections."""
+        self.session.close()
+
+    def __enter__(self) -> "Client":
+        return self
+
+    def __exit__(self, *exc_info: Any) -> None:
+        self.close()
 
     def _url(self, path: str) -> str:
         return self.base_url + path
@@ -229,7 +239,11 @@ def _parser() -> argparse.ArgumentParser:
 
 def main(argv: Optional[list[str]] = None) -> int:
     args = _parser().parse_args(argv)
-    client = Client(args.url)
+    with Client(args.url) as client:
+        return _run(client, args)
+
+
+def _run(client: Client, args: argparse.Namespace) -> int:
     try:
         if args.command == "remesh":
             return _remesh(client, args)

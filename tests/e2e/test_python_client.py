@@ -137,6 +137,10 @@ class PythonClientTest(unittest.TestCase):
         cls.mesh = os.path.join(cls.work, "icosphere.obj")
         cls.input_counts = write_icosphere(cls.mesh)
 
+    def setUp(self):
+        self.client = hexcover_client.Client(self.server.url)
+        self.addCleanup(self.client.close)
+
     @classmethod
     def tearDownClass(cls):
         shutil.rmtree(cls.work, ignore_errors=True)
@@ -159,7 +163,7 @@ class PythonClientTest(unittest.TestCase):
 
         # The printed metrics are the service's metrics document for this job.
         job_id = re.search(r"submitted \S+ as job (\S+)", result.stderr).group(1)
-        client = hexcover_client.Client(self.server.url)
+        client = self.client
         self.assertEqual(printed, client.metrics(job_id))
 
         # The downloaded triangle mesh is the one the metrics describe.
@@ -185,7 +189,7 @@ class PythonClientTest(unittest.TestCase):
             self.assertEqual(glb.read(4), b"glTF")
 
     def test_module_reports_progress_until_success(self):
-        client = hexcover_client.Client(self.server.url)
+        client = self.client
         job = client.submit(self.mesh, edge_length=0.25)
         self.assertIn(job["state"], ("queued", "running", "succeeded"))
         updates = []
@@ -197,14 +201,14 @@ class PythonClientTest(unittest.TestCase):
         self.assertTrue(all(0.0 <= p <= 1.0 for p in progress))
 
     def test_idempotency_key_returns_the_same_job(self):
-        client = hexcover_client.Client(self.server.url)
+        client = self.client
         first = client.submit(self.mesh, idempotency_key="py-client-test", vertices=200)
         again = client.submit(self.mesh, idempotency_key="py-client-test", vertices=200)
         self.assertEqual(first["id"], again["id"])
         client.cancel(first["id"])
 
     def test_bad_option_is_a_problem_naming_it(self):
-        client = hexcover_client.Client(self.server.url)
+        client = self.client
         with self.assertRaises(hexcover_client.HexcoverError) as caught:
             client.submit(self.mesh, rosy=5)
         self.assertEqual(caught.exception.problem["status"], 400)
