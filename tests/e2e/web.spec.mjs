@@ -163,6 +163,7 @@ try {
   await page.check('#show-texture');
   await page.uncheck('#show-wireframe');
   await page.check('#show-dual');
+  await page.evaluate(() => window.scrollTo(0, 0));
   await page.waitForTimeout(500);
   fs.mkdirSync(path.dirname(args.screenshot), { recursive: true });
   await page.screenshot({ path: args.screenshot });
