@@ -296,7 +296,8 @@ void readVertices(Values& values, const Element& element, PolygonSoup& soup) {
                          std::min<std::uint64_t>(element.count, values.remaining() / 6));
   for (std::uint64_t v = 0; v < element.count; ++v) {
     Eigen::Vector3d p = Eigen::Vector3d::Zero();
-    const std::string where = values.location();
+    // Binary data is located by where the record starts, text by the line it was read from.
+    std::string where = values.location();
     for (const auto& property : element.properties) {
       const int axis = &property == axes[0]   ? 0
                        : &property == axes[1] ? 1
@@ -307,6 +308,7 @@ void readVertices(Values& values, const Element& element, PolygonSoup& soup) {
       else
         p[axis] = values.real(property.type);
     }
+    if constexpr (std::is_same_v<Values, AsciiValues>) where = values.location();
     if (!p.allFinite())
       throw Error(ErrorCode::InvalidMesh, "PLY " + where + ": vertex " + std::to_string(v) +
                                               " has a NaN or infinite coordinate");

@@ -16,8 +16,9 @@ using detail::EdgeTable;
 using detail::Triangle;
 
 constexpr std::uint32_t kNone = UINT32_MAX;
-/// Polygons with more corners are fan-triangulated: ear clipping is O(n³) in the worst case.
-constexpr std::size_t kMaxEarClippingCorners = 64;
+/// Polygons with more corners are fan-triangulated: ear clipping costs O(n³) on adversarial
+/// outlines, and at 16 corners a file at the face limit still triangulates in about a second.
+constexpr std::size_t kMaxEarClippingCorners = 16;
 
 std::string formatPoint(const Eigen::Vector3d& p) {
   std::ostringstream out;

@@ -280,6 +280,23 @@ TEST(PlyReader, TruncatedBinaryDataNamesTheByteOffset) {
   }
 }
 
+TEST(PlyReader, NonFiniteCoordinateNamesTheLineOrOffset) {
+  const std::string header =
+      "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+      "property float z\nend_header\n";
+  const Error ascii =
+      expectError([&] { parseMesh(header + "0 0 0\n1 inf 0\n"); }, ErrorCode::InvalidMesh);
+  EXPECT_NE(std::string(ascii.what()).find("line 9"), std::string::npos) << ascii.what();
+  std::string binary =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty double x\n"
+      "property double y\nproperty double z\nend_header\n";
+  const std::size_t second = binary.size() + 24;
+  for (const double x : {0.0, 0.0, 0.0, std::nan(""), 0.0, 0.0}) append(binary, x);
+  const Error e = expectError([&] { parseMesh(binary); }, ErrorCode::InvalidMesh);
+  EXPECT_NE(std::string(e.what()).find("byte offset " + std::to_string(second)), std::string::npos)
+      << e.what();
+}
+
 TEST(PlyReader, HeaderWithoutDataIsTruncatedNotOverread) {
   // The file ends right after "end_header" (no newline): the data offset lies past the end.
   for (const std::string format : {"binary_little_endian", "ascii"}) {
