@@ -107,7 +107,7 @@ std::vector<double> edgeGraphDistances(const TriMesh& mesh, const std::vector<in
 
 ClusteringResult clusterSingularities(const TriMesh& mesh, const std::vector<ClusterNode>& initial,
                                       const std::vector<double>& gaussDensity, double dSing,
-                                      int maxIndex) {
+                                      int maxIndex, const std::vector<bool>& settled) {
   const auto length = edgeLengths(mesh);
   GeodesicBall ball(mesh, length);
   std::vector<ClusterNode> nodes = initial;
@@ -127,7 +127,8 @@ ClusteringResult clusterSingularities(const TriMesh& mesh, const std::vector<Clu
           candidates.emplace(ball.distance(v), std::min(node, other), std::max(node, other));
     }
   };
-  for (std::size_t i = 0; i < nodes.size(); ++i) addNeighbours(static_cast<int>(i));
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    if (settled.empty() || !settled[i]) addNeighbours(static_cast<int>(i));
 
   ClusteringResult result;
   const auto remove = [&](int node) {

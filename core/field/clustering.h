@@ -37,8 +37,11 @@ struct ClusteringResult {
 /// |K|; a zero sum cancels both. Collapses that would give |I| > maxIndex are skipped. Nodes are
 /// never placed on boundary vertices (the nearest interior vertex of the path is used).
 /// `nodes` must be interior vertices; `gaussDensity` is #V |K|/area or any per-vertex weight.
+/// `settled` (empty or one flag per node): nodes known to have no collapsible partner among the
+/// other settled nodes (they were left apart by an earlier clustering); the search for close
+/// pairs then starts only from the others.
 ClusteringResult clusterSingularities(const TriMesh& mesh, const std::vector<ClusterNode>& nodes,
                                       const std::vector<double>& gaussDensity, double dSing,
-                                      int maxIndex);
+                                      int maxIndex, const std::vector<bool>& settled = {});
 
 }  // namespace hexcover::field

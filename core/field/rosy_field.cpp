@@ -258,15 +258,24 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
   RosyField result = std::move(initialField);
   std::vector<Complex> u = initial;
   std::vector<double> corrections = initialCorrections;
+  std::vector<int> previousIndex;  // #V: the nodes left by the last clustering (0 elsewhere)
   for (int round = 0; options.clusterSingularities && round < kClusteringRounds; ++round) {
     step(0.6 + 0.1 * round);
     const field::ClusteringResult clusters = timed(timings, "clustering", [&] {
+      // Singularities that the last clustering left in place were checked against each other.
       std::vector<field::ClusterNode> nodes;
-      for (const auto& s : result.singularities)
-        if (!s.onBoundary) nodes.push_back({s.vertex, s.index});
-      return field::clusterSingularities(mesh, nodes, density, dSing, options.maxMergedIndex);
+      std::vector<bool> settled;
+      for (const auto& s : result.singularities) {
+        if (s.onBoundary) continue;
+        nodes.push_back({s.vertex, s.index});
+        settled.push_back(!previousIndex.empty() && previousIndex[s.vertex] == s.index);
+      }
+      return field::clusterSingularities(mesh, nodes, density, dSing, options.maxMergedIndex,
+                                         settled);
     });
     if (clusters.collapses == 0) break;
+    previousIndex.assign(mesh.n_vertices(), 0);
+    for (const auto& node : clusters.nodes) previousIndex[node.vertex] = node.index;
     u = timed(timings, "cluster_solve", [&] {
       return resolveRegion(mesh, geometry, input.free, clusters, dSing, n, u, corrections);
     });
