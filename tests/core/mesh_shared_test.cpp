@@ -84,6 +84,47 @@ TEST(SharedMeshes, StanfordBunnyDropsItsUnreferencedVertices) {
   EXPECT_EQ(report.repairs.droppedUnreferencedVertices, 1113u);
 }
 
+// As found (validateMesh, before repair): V, F (polygons), components, boundary loops and χ
+// exactly as shared/meshes/README.md lists them.
+TEST(SharedMeshes, NastyMeshesAsFoundMatchTheReadme) {
+  struct AsFound {
+    std::size_t vertices, faces, components, loops;
+    long long chi;
+  };
+  const std::map<std::string, AsFound> readme = {
+      {"gc_fan3_nonmanifold_edge.obj", {5, 3, 1, 1, 1}},
+      {"gc_hourglass_nonmanifold_vertex.obj", {23, 40, 1, 0, 3}},
+      {"gc_moebius_nonorientable.obj", {280, 224, 1, 1, 0}},
+      {"gc_platonic_shelf_multicomp.obj", {50, 50, 5, 0, 10}},
+      {"libigl_horse_quad.obj", {2400, 2398, 1, 0, 2}},
+      {"nasty_ascii_props_crlf.ply", {5, 5, 1, 0, 2}},
+      {"nasty_flipped_patch.obj", {642, 1280, 1, 0, 2}},
+      {"nasty_zero_area_dup.obj", {122, 203, 1, 1, 2}},
+      {"openmesh_cube_minimal_quads.ply", {8, 6, 1, 0, 2}},
+      {"trimesh_comments.off", {8, 6, 1, 0, 2}},
+      {"trimesh_negative_indices.obj", {8, 6, 1, 0, 2}},
+      {"trimesh_soup.stl", {300, 100, 100, 100, 100}},
+      {"trimesh_two_solids_ascii.stl", {16, 24, 2, 0, 4}},
+  };
+  HEXCOVER_SHARED_MESH_OR_SKIP(probe, "nasty/gc_fan3_nonmanifold_edge.obj");
+  for (const auto& path : test::sharedMeshGroup("nasty")) {
+    SCOPED_TRACE(path.filename().string());
+    const auto it = readme.find(path.filename().string());
+    ASSERT_NE(it, readme.end()) << "no README row for this file";
+    const MeshStatistics found = validateMesh(readMesh(path)).input;
+    EXPECT_EQ(found.vertices, it->second.vertices);
+    EXPECT_EQ(found.faces, it->second.faces);
+    EXPECT_EQ(found.components, it->second.components);
+    EXPECT_EQ(found.boundaryLoops, it->second.loops);
+    EXPECT_EQ(found.eulerCharacteristic, it->second.chi);
+  }
+  HEXCOVER_SHARED_MESH_OR_SKIP(moebius, "nasty/gc_moebius_nonorientable.obj");
+  const MeshStatistics strip = validateMesh(readMesh(moebius)).input;
+  EXPECT_EQ(strip.inconsistentlyOrientedEdges, 4u);
+  EXPECT_EQ(strip.nonOrientableComponents, 1u);
+  EXPECT_EQ(strip.nonTriangleFaces, 224u);
+}
+
 using Check = std::function<void(const RepairedMesh&)>;
 
 // What each nasty/ file must give: a check of its repaired report, or the words the refusal
