@@ -1,6 +1,7 @@
 #include "core/field/rosy_field.h"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -259,6 +260,7 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
   std::vector<Complex> u = initial;
   std::vector<double> corrections = initialCorrections;
   std::vector<int> previousIndex;  // #V: the nodes left by the last clustering (0 elsewhere)
+  int previousCollapses = std::numeric_limits<int>::max();
   for (int round = 0; options.clusterSingularities && round < kClusteringRounds; ++round) {
     step(0.6 + 0.1 * round);
     const field::ClusteringResult clusters = timed(timings, "clustering", [&] {
@@ -273,7 +275,10 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
       return field::clusterSingularities(mesh, nodes, density, dSing, options.maxMergedIndex,
                                          settled);
     });
-    if (clusters.collapses == 0) break;
+    // Stop when a round does not collapse fewer pairs than the one before: the re-solve is then
+    // recreating the pairs it cancels (seen where R wraps around a handle, see rosy_field.h).
+    if (clusters.collapses == 0 || clusters.collapses >= previousCollapses) break;
+    previousCollapses = clusters.collapses;
     previousIndex.assign(mesh.n_vertices(), 0);
     for (const auto& node : clusters.nodes) previousIndex[node.vertex] = node.index;
     u = timed(timings, "cluster_solve", [&] {

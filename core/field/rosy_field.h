@@ -105,10 +105,20 @@ struct FieldOptions {
 /// The geometry-aware N-RoSy field of paper section 3: curvature (core/geometry), directional
 /// constraints at strong cylindrical faces, the smooth solve with the filtered Gauss curvature K̄
 /// (Ray et al.), singularity extraction, clustering with d_sing and the re-solve in the region R
-/// around the collapsed singularities (K̄ zero except 2πI/N at the remaining ones). Every
-/// component is solved on its own terms (its own constraints, or its smoothest field when it has
-/// none). Deterministic: the same mesh and options give the same bytes. Poincaré–Hopf is checked
-/// per component on the initial and the final field (std::logic_error on failure: a bug).
+/// around the collapsed singularities (K̄ zero except 2πI/N at the remaining ones), repeated on
+/// the result (R = the newly collapsed ones) while each round collapses fewer pairs than the one
+/// before (at most 6 rounds). Interior singularities then end up at least d_sing apart
+/// (graph-geodesic distance along edges) except pairs whose merge maxMergedIndex forbids;
+/// boundary vertices keep the indices of the boundary rule and are not clustered. Known
+/// limitation: when R contains a non-contractible loop (a handle of a genus > 0 surface thinner
+/// than d_sing, e.g. feline), the connection correction does not control the holonomy along that
+/// loop, the re-solve twists the field there and creates close ± pairs again; the rounds stop
+/// and some pairs closer than d_sing remain. Every component is solved on its own terms (its own
+/// constraints, or its smoothest field when it has none). Deterministic: the same mesh and
+/// options give the same bytes. Poincaré–Hopf is checked per component after every solve
+/// (std::logic_error on failure: a bug). Timings: geometry, curvature, constraints, connection,
+/// filter_gauss_curvature, initial_solve, initial_singularities, then per clustering round
+/// clustering, cluster_solve, cluster_singularities.
 /// Throws Error(InvalidOption) for invalid options, Error(InvalidMesh) for a mesh without faces,
 /// Error(NumericalFailure) if a factorization fails, Error(Canceled) when `context` asks.
 RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options = {},
