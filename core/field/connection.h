@@ -6,9 +6,11 @@
 // turns the angle defect K_v into a target K̄_v:  Σ_e s_{v,e} c_e = K̄_v − K_v  (signs s as in
 // rosy_field.h). A field that is parallel for the corrected transport then has, by the index
 // formula of rosy_field.h, index N K̄_v / 2π at v: singularities appear only where K̄ accumulates
-// multiples of 2π/N. With A the #constrained × #E signed incidence matrix, c = Aᵀ (A Aᵀ)⁻¹ b, and
-// A Aᵀ is the combinatorial graph Laplacian of the interior vertices (Dirichlet at boundary
-// vertices; one pinned vertex per closed component, whose row is implied by Σ b = 0 there).
+// multiples of 2π/N. With A the #constrained × #free-edges signed incidence matrix,
+// c = Aᵀ (A Aᵀ)⁻¹ b, and A Aᵀ is the combinatorial graph Laplacian of the constrained vertices
+// (Dirichlet at the others; a group without any pins one vertex, whose row is implied by Σ b = 0
+// there). The initial solve constrains every interior vertex through every interior edge; the
+// clustering re-solve constrains the vertices of the region R through the edges inside R.
 
 #include <Eigen/SparseCholesky>
 #include <vector>
