@@ -20,5 +20,8 @@ int runRemesh(int argc, char** argv);
 /// `hexcover field MESH [--rosy 6|4] [--d-sing X] [-o FIELD.ply]`: the N-RoSy field and its
 /// singularities as one JSON object (field_command.cpp).
 int runField(int argc, char** argv);
+/// `hexcover param MESH -o TEXTURED.obj [...]`: the seamless parameterization, a textured mesh and
+/// optionally the hexagonal pattern tile; one JSON object on stdout (param_command.cpp).
+int runParam(int argc, char** argv);
 
 }  // namespace hexcover::cli

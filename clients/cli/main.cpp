@@ -34,6 +34,10 @@ constexpr Subcommand kSubcommands[] = {
      runRemesh},
     {"field", "field MESH [--rosy 6|4] [--d-sing X] [--no-clustering] [--free-boundary] [-o FIELD.ply]",
      runField},
+    {"param",
+     "param MESH -o TEXTURED.obj [--edge-length h | --vertices K] [--rosy 6|4] "
+     "[--sizing uniform|curvature] [--texture HEX.png] [--rounding direct|greedy]",
+     runParam},
 };
 
 int printUsage(std::ostream& out) {

@@ -8,6 +8,7 @@
 #include <array>
 #include <functional>
 #include <map>
+#include <set>
 #include <cmath>
 #include <numeric>
 #include <string>
@@ -344,6 +345,12 @@ class SpdSolver {
     return run(ldlt_, a, b);
   }
 
+  /// Solves with the last factorization.
+  Eigen::VectorXd resolve(const Eigen::VectorXd& b) const {
+    return kind_ == LinearSolver::Cholmod ? Eigen::VectorXd(cholmod_.solve(b))
+                                          : Eigen::VectorXd(ldlt_.solve(b));
+  }
+
  private:
   template <typename Factorization>
   Eigen::VectorXd run(Factorization& factorization, const SparseMatrix& a, const Eigen::VectorXd& b) {
@@ -387,6 +394,8 @@ class EnergySystem {
     for (int j = 0; j < a.cols(); ++j)
       if (fixed[j]) fixedValues[j] = values[j];
     b -= a * fixedValues;
+    unfixed_ = a;
+    fixed_ = fixed;
     // Pattern-preserving elimination: zero the fixed rows and columns, unit diagonal.
     for (int col = 0; col < a.outerSize(); ++col)
       for (SparseMatrix::InnerIterator it(a, col); it; ++it) {
@@ -398,6 +407,17 @@ class EnergySystem {
     for (int j = 0; j < a.cols(); ++j)
       if (fixed[j]) b[j] = fixedValues[j];
     return solver_.solve(a, b);
+  }
+
+  /// ∂x/∂x_j of the last solve's minimizer for a fixed unknown j (one back-substitution with the
+  /// last factorization): changing x_j by δ moves the minimizer by δ times this.
+  Eigen::VectorXd response(int j) const {
+    Eigen::VectorXd rhs = -Eigen::VectorXd(unfixed_.col(j));
+    for (Eigen::Index i = 0; i < rhs.size(); ++i)
+      if (fixed_[i]) rhs[i] = 0.0;
+    Eigen::VectorXd r = solver_.resolve(rhs);
+    r[j] = 1.0;
+    return r;
   }
 
   /// Σ_f A_f |rows_f x − target_f|² (energy (4), unit weights).
@@ -416,6 +436,8 @@ class EnergySystem {
 
   const LeastSquares& ls_;
   SpdSolver solver_;
+  SparseMatrix unfixed_;     // the last system before fixing unknowns
+  std::vector<bool> fixed_;  // the last solve's fixed unknowns
 };
 
 // Nearest lattice point of a 2D unknown in the Euclidean metric of the plane: the best corner
@@ -548,6 +570,64 @@ Orientation countOrientation(const TriMesh& mesh, const CutMesh& cm, const Snapp
   return o;
 }
 
+// Rounding repair: fold-overs that stiffening cannot remove come from the rounding (typically two
+// singularities rounded onto the same lattice point). For the integer unknowns that the corners of
+// flipped triangles depend on, try moving each to a neighbouring lattice point (its effect on the
+// minimizer is linear: one back-substitution per unknown with the last factorization) and keep a
+// move when it leaves fewer flipped triangles. At most four passes over at most 32 units each.
+void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
+                    const EnergySystem& system, int n, Eigen::VectorXd& x,
+                    SnappedCoordinates& snapped, Orientation& orientation,
+                    std::vector<bool>& flippedFaces) {
+  const auto units = roundingUnits(u);
+  std::map<int, int> unitOfColumn;
+  for (std::size_t i = 0; i < units.size(); ++i)
+    for (const int column : units[i]) unitOfColumn[column] = static_cast<int>(i);
+  for (int pass = 0; pass < 4 && orientation.flipped > 0; ++pass) {
+    std::set<int> involved;
+    for (const auto fh : mesh.faces()) {
+      if (!flippedFaces[fh.idx()]) continue;
+      for (const auto h : mesh.fh_range(fh))
+        for (const auto& row : u.wedgeRows[cm.halfedgeWedge[h.idx()]])
+          for (const auto& [column, c] : row)
+            if (const auto it = unitOfColumn.find(column); it != unitOfColumn.end())
+              involved.insert(it->second);
+      if (involved.size() >= 32) break;
+    }
+    bool improved = false;
+    for (const int i : involved) {
+      const auto& unit = units[i];
+      std::vector<Eigen::VectorXd> response;
+      for (const int column : unit) response.push_back(system.response(column));
+      std::vector<Eigen::Vector2d> moves;
+      if (unit.size() == 2)
+        moves = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, -1}, {-1, 1}};
+      else
+        moves = {{1, 0}, {-1, 0}};
+      Eigen::VectorXd best;
+      for (const auto& move : moves) {
+        Eigen::VectorXd candidate = x;
+        for (std::size_t k = 0; k < unit.size(); ++k) candidate += move[k] * response[k];
+        for (const int column : unit) candidate[column] = std::round(candidate[column]);
+        std::vector<bool> candidateFlipped;
+        const SnappedCoordinates candidateSnap = snapCoordinates(mesh, cm, u, candidate, n);
+        const Orientation candidateOrientation =
+            countOrientation(mesh, cm, candidateSnap, &candidateFlipped);
+        if (candidateOrientation.flipped < orientation.flipped) {
+          x = candidate;
+          snapped = candidateSnap;
+          orientation = candidateOrientation;
+          flippedFaces = std::move(candidateFlipped);
+          improved = true;
+          break;
+        }
+      }
+      if (orientation.flipped == 0) return;
+    }
+    if (!improved) return;
+  }
+}
+
 double angleAt(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
   const Eigen::Vector2d u = b - a, v = c - a;
   return std::atan2(std::abs(u.x() * v.y() - u.y() * v.x()), u.dot(v));
@@ -621,8 +701,9 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
   result.edgeLength = options.edgeLength > 0.0
                           ? options.edgeLength
                           : edgeLengthForVertexCount(mesh,
-                                                     options.targetVertices > 0 ? options.targetVertices
-                                                                                : usedVertices,
+                                                     options.targetVertices > 0
+                                                         ? options.targetVertices
+                                                         : std::max(4, usedVertices / 4),
                                                      isLatticeOrder(n) ? n : 6, options.vertexSizing);
   std::vector<double> faceScale(mesh.n_faces(), 1.0 / result.edgeLength);
   if (!options.vertexSizing.empty())
@@ -707,11 +788,16 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
   }
   context.report("parameterization", 0.7);
 
-  // Fold-overs: stiffen distorted triangles (weight += min(5·relative misfit, 20)) and re-solve.
+  // Fold-overs: stiffen distorted triangles (weight += min(5·relative misfit, 20), doubled around
+  // flipped ones) and re-solve.
   SnappedCoordinates snapped = snapCoordinates(mesh, cm, unknowns, x, n);
   std::vector<bool> flippedFaces;
   Orientation orientation = countOrientation(mesh, cm, snapped, &flippedFaces);
   result.flippedBeforeStiffening = orientation.flipped;
+  if (orientation.flipped > 0) {
+    ScopedTimer timer(result.timings, "rounding repair");
+    repairRounding(mesh, cm, unknowns, system, n, x, snapped, orientation, flippedFaces);
+  }
   {
     ScopedTimer timer(result.timings, "stiffening");
     while ((orientation.flipped > 0 || orientation.degenerate > 0) &&
@@ -721,13 +807,25 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
       for (int f = 0; f < static_cast<int>(mesh.n_faces()); ++f) {
         const double misfit = residual.segment<4>(4 * f).squaredNorm() /
                               (2.0 * faceScale[f] * faceScale[f]);
-        faceWeight[f] += std::min(5.0 * misfit + (flippedFaces[f] ? 5.0 : 0.0), 20.0);
+        faceWeight[f] += std::min(5.0 * misfit, 20.0);
       }
+      // Flipped triangles and the triangles around their corners are stiffened twofold.
+      std::vector<bool> stiffen(mesh.n_faces(), false);
+      for (const auto fh : mesh.faces())
+        if (flippedFaces[fh.idx()])
+          for (const auto vh : fh.vertices())
+            for (const auto gh : vh.faces()) stiffen[gh.idx()] = true;
+      for (int f = 0; f < static_cast<int>(mesh.n_faces()); ++f)
+        if (stiffen[f]) faceWeight[f] *= 2.0;
       x = system.solve(faceWeight, fixed, x);
       ++result.stiffeningIterations;
       snapped = snapCoordinates(mesh, cm, unknowns, x, n);
       orientation = countOrientation(mesh, cm, snapped, &flippedFaces);
     }
+  }
+  if (orientation.flipped > 0 && result.stiffeningIterations > 0) {
+    ScopedTimer timer(result.timings, "rounding repair");
+    repairRounding(mesh, cm, unknowns, system, n, x, snapped, orientation, flippedFaces);
   }
   result.flippedTriangles = orientation.flipped;
   result.degenerateTriangles = orientation.degenerate;

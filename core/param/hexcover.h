@@ -35,7 +35,8 @@ enum class LinearSolver {
 
 struct ParamOptions {
   /// h: surface length of one lattice unit (where the sizing is 1). When ≤ 0, h is derived from
-  /// targetVertices; when both are unset, from a target of as many vertices as the input has.
+  /// targetVertices; when both are unset, from a target of a quarter of the input's vertices
+  /// (the pipeline's default).
   double edgeLength = 0.0;
   /// K: the remesh should have about K vertices (h from the sized area, see edgeLengthForVertexCount).
   int targetVertices = 0;

@@ -57,7 +57,8 @@ struct Parameterization {
   DistortionStats distortion;
   double energy = 0.0;           ///< energy (4) of the final solution, in units of area/h²
   double localEnergy = 0.0;      ///< energy (4) of the local step (no integer constraints)
-  int flippedBeforeStiffening = 0;  ///< flipped triangles right after the final solve
+  int flippedBeforeStiffening = 0;  ///< flipped triangles right after the final solve (before
+                                    ///< rounding repair and stiffening)
   int stiffeningIterations = 0;  ///< re-solves spent on removing fold-overs
   Timings timings;
 };

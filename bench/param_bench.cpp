@@ -1,0 +1,185 @@
+// Benchmark of the HexCover parameterization (core/param): per-step times (median of 5 runs),
+// peak memory, Eigen SimplicialLDLT vs CHOLMOD, and direct vs greedy rounding (energy, flipped
+// triangles, time) on generated meshes with prescribed fields and on every clean/ mesh with the
+// field of core/field.
+//
+// Prints one JSON line per run configuration ("param_bench {...}") and a table for people.
+// Usage: bench_param [--runs R] [--only SUBSTRING]
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/common/memory.h"
+#include "core/field/rosy_field.h"
+#include "core/mesh/load.h"
+#include "core/mesh/primitives.h"
+#include "core/param/hexcover.h"
+
+namespace {
+
+using namespace hexcover;
+
+Eigen::Vector3d faceCentroid(const TriMesh& mesh, OpenMesh::FaceHandle fh) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const auto vh : mesh.fv_range(fh)) c += toEigen(mesh.point(vh)) / 3.0;
+  return c;
+}
+
+// The icosahedral 6-RoSy field of an icosphere: 12 singularities of index +1/6.
+RosyField icosahedralField(const TriMesh& mesh) {
+  const TriMesh ico = makeIcosphere(0);
+  std::vector<Eigen::Vector3d> directions;
+  for (const auto fh : mesh.faces()) {
+    const Eigen::Vector3d c = faceCentroid(mesh, fh).normalized();
+    double best = -2.0;
+    Eigen::Vector3d direction;
+    for (const auto gh : ico.faces()) {
+      const double score = faceCentroid(ico, gh).normalized().dot(c);
+      if (score <= best) continue;
+      best = score;
+      const auto h = ico.halfedge_handle(gh);
+      direction = toEigen(ico.point(ico.to_vertex_handle(h))) -
+                  toEigen(ico.point(ico.from_vertex_handle(h)));
+    }
+    directions.push_back(direction);
+  }
+  return rosyFieldFromDirections(mesh, directions, 6);
+}
+
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  return values.empty() ? 0.0 : values[values.size() / 2];
+}
+
+struct Summary {
+  std::map<std::string, double> stepMedian;  // step -> median seconds
+  double totalMedian = 0.0;
+  Parameterization last;
+};
+
+Summary run(const TriMesh& mesh, const RosyField& field, const ParamOptions& options, int runs) {
+  Summary summary;
+  std::map<std::string, std::vector<double>> steps;
+  std::vector<double> totals;
+  for (int r = 0; r < runs; ++r) {
+    summary.last = computeParameterization(mesh, field, options);
+    for (const auto& t : summary.last.timings) steps[t.step].push_back(t.seconds);
+    totals.push_back(totalSeconds(summary.last.timings));
+  }
+  for (auto& [step, values] : steps) summary.stepMedian[step] = median(values);
+  summary.totalMedian = median(totals);
+  return summary;
+}
+
+const char* solverName(LinearSolver s) {
+  return s == LinearSolver::Cholmod ? "cholmod" : "simplicial_ldlt";
+}
+
+void report(const std::string& name, const TriMesh& mesh, const char* rounding, LinearSolver solver,
+            const Summary& s) {
+  std::printf("param_bench {\"mesh\":\"%s\",\"faces\":%zu,\"rounding\":\"%s\",\"solver\":\"%s\","
+              "\"seconds_median\":%.4f,\"flipped\":%d,\"flipped_before_stiffening\":%d,"
+              "\"degenerate\":%d,\"energy\":%.6g,\"local_energy\":%.6g,\"singularities\":%zu,"
+              "\"integer_variables\":%d,\"stiffening_iterations\":%d,\"peak_memory_mib\":%.1f,"
+              "\"steps\":{",
+              name.c_str(), mesh.n_faces(), rounding, solverName(solver), s.totalMedian,
+              s.last.flippedTriangles, s.last.flippedBeforeStiffening, s.last.degenerateTriangles,
+              s.last.energy, s.last.localEnergy, s.last.singularities.size(),
+              s.last.integerVariables, s.last.stiffeningIterations, peakMemoryMiB());
+  bool first = true;
+  for (const auto& [step, seconds] : s.stepMedian) {
+    std::printf("%s\"%s\":%.4f", first ? "" : ",", step.c_str(), seconds);
+    first = false;
+  }
+  std::printf("}}\n");
+  std::fflush(stdout);
+}
+
+struct Row {
+  std::string name;
+  std::size_t faces = 0;
+  double ldlt = 0.0, cholmod = 0.0, greedy = 0.0;
+  int flippedDirect = 0, flippedGreedy = 0;
+  double energyDirect = 0.0, energyGreedy = 0.0, localEnergy = 0.0;
+  double memory = 0.0;
+};
+
+Row benchmark(const std::string& name, const TriMesh& mesh, const RosyField& field, int runs) {
+  Row row;
+  row.name = name;
+  row.faces = mesh.n_faces();
+  ParamOptions options;
+  options.solver = LinearSolver::SimplicialLDLT;
+  const Summary ldlt = run(mesh, field, options, runs);
+  report(name, mesh, "direct", options.solver, ldlt);
+  options.solver = LinearSolver::Cholmod;
+  const Summary cholmod = run(mesh, field, options, runs);
+  report(name, mesh, "direct", options.solver, cholmod);
+  options.solver = LinearSolver::SimplicialLDLT;
+  options.rounding = RoundingMethod::Greedy;
+  const Summary greedy = run(mesh, field, options, runs);
+  report(name, mesh, "greedy", options.solver, greedy);
+  row.ldlt = ldlt.totalMedian;
+  row.cholmod = cholmod.totalMedian;
+  row.greedy = greedy.totalMedian;
+  row.flippedDirect = ldlt.last.flippedTriangles;
+  row.flippedGreedy = greedy.last.flippedTriangles;
+  row.energyDirect = ldlt.last.energy;
+  row.energyGreedy = greedy.last.energy;
+  row.localEnergy = ldlt.last.localEnergy;
+  row.memory = peakMemoryMiB();
+  return row;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int runs = 5;
+  std::string only;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string flag = argv[i];
+    if (flag == "--runs") runs = std::max(1, std::stoi(argv[i + 1]));
+    if (flag == "--only") only = argv[i + 1];
+  }
+  std::vector<Row> rows;
+  const auto wanted = [&](const std::string& name) {
+    return only.empty() || name.find(only) != std::string::npos;
+  };
+  try {
+    if (wanted("generated/icosphere6")) {
+      const TriMesh mesh = makeIcosphere(6);
+      rows.push_back(benchmark("generated/icosphere6", mesh, icosahedralField(mesh), runs));
+    }
+    const std::filesystem::path clean = std::filesystem::path(HEXCOVER_SHARED_MESHES) / "clean";
+    if (std::filesystem::exists(clean)) {
+      std::vector<std::filesystem::path> files;
+      for (const auto& entry : std::filesystem::directory_iterator(clean)) files.push_back(entry.path());
+      std::sort(files.begin(), files.end());
+      for (const auto& file : files) {
+        const std::string name = "clean/" + file.filename().string();
+        if (!wanted(name)) continue;
+        const TriMesh mesh = loadMesh(file);
+        const RosyField field = computeRosyField(mesh);
+        rows.push_back(benchmark(name, mesh, field, runs));
+      }
+    } else {
+      std::cerr << "bench_param: no shared meshes at " << clean << ", generated meshes only\n";
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "bench_param: " << e.what() << "\n";
+    return 1;
+  }
+
+  std::printf("\n%-34s %7s %9s %9s %9s %6s %6s %11s %11s %11s %8s\n", "mesh", "faces", "ldlt s",
+              "cholmod s", "greedy s", "flipD", "flipG", "E direct", "E greedy", "E local", "MiB");
+  for (const auto& r : rows)
+    std::printf("%-34s %7zu %9.3f %9.3f %9.3f %6d %6d %11.4g %11.4g %11.4g %8.1f\n", r.name.c_str(),
+                r.faces, r.ldlt, r.cholmod, r.greedy, r.flippedDirect, r.flippedGreedy,
+                r.energyDirect, r.energyGreedy, r.localEnergy, r.memory);
+  return 0;
+}
