@@ -2,19 +2,21 @@
 // Shared steps of the end-to-end tests: meshes the tests make themselves, uploads, and checks
 // of downloaded results against the metrics document.
 
-// Eigen (through core/) before httplib.h: glibc's <resolv.h>, which httplib includes, defines
-// a macro `_res` that breaks Eigen's headers.
-#include <gtest/gtest.h>
+// clang-format off
+// Eigen (through core/) before httplib.h: glibc's <resolv.h>, which httplib includes, defines a
+// macro `_res` that breaks Eigen's headers.
+#include "core/mesh/io.h"
+#include "core/mesh/primitives.h"
 #include <httplib.h>
+// clang-format on
+
+#include <gtest/gtest.h>
 #include <tiny_gltf.h>
 
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
-
-#include "core/mesh/io.h"
-#include "core/mesh/primitives.h"
 
 namespace hexcover::server::test {
 

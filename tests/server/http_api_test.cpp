@@ -419,5 +419,13 @@ TEST(HttpApi, ReadyzIs503WhileDrainingAndNewUploadsAreRefused) {
   EXPECT_EQ(client.Get("/livez")->status, 200);
 }
 
+TEST(HttpApi, ASecondServerCannotSilentlyShareTheSamePort) {
+  InProcessServer first;
+  ServerConfig config = InProcessServer::smallConfig();
+  config.port = first.port();
+  EXPECT_THROW(InProcessServer second(config), std::runtime_error)
+      << "SO_REUSEPORT must be off: two servers on one port would split the requests";
+}
+
 }  // namespace
 }  // namespace hexcover::server::test
