@@ -800,8 +800,10 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
   }
   {
     ScopedTimer timer(result.timings, "stiffening");
+    // Stop after 3 re-solves without fewer flipped triangles: what remains is not a stiffness issue.
+    int best = orientation.flipped + orientation.degenerate, sinceBest = 0;
     while ((orientation.flipped > 0 || orientation.degenerate > 0) &&
-           result.stiffeningIterations < options.maxStiffeningIterations) {
+           result.stiffeningIterations < options.maxStiffeningIterations && sinceBest < 3) {
       context.throwIfCanceled();
       const Eigen::VectorXd residual = ls.gradient * x - ls.target;
       for (int f = 0; f < static_cast<int>(mesh.n_faces()); ++f) {
@@ -821,6 +823,9 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
       ++result.stiffeningIterations;
       snapped = snapCoordinates(mesh, cm, unknowns, x, n);
       orientation = countOrientation(mesh, cm, snapped, &flippedFaces);
+      const int remaining = orientation.flipped + orientation.degenerate;
+      sinceBest = remaining < best ? 0 : sinceBest + 1;
+      best = std::min(best, remaining);
     }
   }
   if (orientation.flipped > 0 && result.stiffeningIterations > 0) {
