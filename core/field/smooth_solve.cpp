@@ -16,6 +16,7 @@ int findRoot(std::vector<int>& parent, int i) {
 }
 
 constexpr int kPowerIterations = 30;
+constexpr double kPowerTolerance = 1e-6;  ///< change of the unit iterate that ends the iteration
 
 }  // namespace
 
@@ -113,6 +114,7 @@ std::vector<Complex> solveSmoothField(const SmoothnessTerms& terms, const Smooth
     for (int i = 0; i < m; ++i)
       if (!groupAnchored[findRoot(parent, i)]) y[i] = 1.0;
     std::vector<double> norm(m, 0.0);
+    Eigen::VectorXcd previous = Eigen::VectorXcd::Zero(m);
     for (int iteration = 0; iteration < kPowerIterations; ++iteration) {
       std::fill(norm.begin(), norm.end(), 0.0);
       for (int i = 0; i < m; ++i) norm[findRoot(parent, i)] += std::norm(y[i]);
@@ -120,6 +122,10 @@ std::vector<Complex> solveSmoothField(const SmoothnessTerms& terms, const Smooth
         const double n2 = norm[findRoot(parent, i)];
         y[i] = n2 > 0.0 ? y[i] / std::sqrt(n2) : y[i];
       }
+      // A⁻¹ scales every eigencomponent by a positive number, so the normalized iterate settles
+      // (phase included) once the smallest eigenvector dominates.
+      if ((y - previous).squaredNorm() < kPowerTolerance * kPowerTolerance) break;
+      previous = y;
       y = solver.solve(y);
     }
     for (int i = 0; i < m; ++i)
