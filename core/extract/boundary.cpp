@@ -153,10 +153,14 @@ std::vector<double> sampleBoundaryLoop(const BoundaryIndex& index, int loop, dou
   for (std::size_t k = 0; k < n; ++k) {
     const Eigen::Vector3d in = points[k] - points[(k + n - 1) % n];
     const Eigen::Vector3d out = points[(k + 1) % n] - points[k];
-    if (in.norm() > 0.0 && out.norm() > 0.0 && in.normalized().dot(out.normalized()) < cosSharp)
+    // A corner closer than half a spacing to the previous one (a jagged input boundary) is
+    // not kept: samples that close would make slivers.
+    if (in.norm() > 0.0 && out.norm() > 0.0 && in.normalized().dot(out.normalized()) < cosSharp &&
+        (corners.empty() || arc - corners.back() >= 0.5 * spacing))
       corners.push_back(arc);
     arc += out.norm();
   }
+  if (corners.size() > 1 && corners.front() + total - corners.back() < 0.5 * spacing) corners.pop_back();
   if (corners.empty()) corners.push_back(0.0);
   std::vector<double> samples;
   for (std::size_t c = 0; c < corners.size(); ++c) {
@@ -176,27 +180,14 @@ std::vector<double> sampleBoundaryLoop(const BoundaryIndex& index, int loop, dou
 
 void stitchStrip(const std::vector<Eigen::Vector3d>& positions,
                  const std::vector<Eigen::Vector3d>& normals, const std::vector<int>& outer,
-                 const std::vector<double>& outerArc, const std::vector<int>& front,
-                 const std::vector<double>& frontArc, double loopLength,
+                 const std::vector<double>& outerParam, const std::vector<int>& front,
+                 const std::vector<double>& frontParam, double length,
                  std::vector<Triangle>& out) {
   const std::size_t m = outer.size(), n = front.size();
-  // Start the front at the vertex whose position along the loop is nearest the first sample,
-  // then unwrap its positions into a non-decreasing sequence beginning near outerArc[0].
-  const auto wrapped = [&](double d) { return d - loopLength * std::round(d / loopLength); };
-  std::size_t start = 0;
-  for (std::size_t j = 1; j < n; ++j)
-    if (std::abs(wrapped(frontArc[j] - outerArc[0])) <
-        std::abs(wrapped(frontArc[start] - outerArc[0])))
-      start = j;
-  std::vector<double> t(n + 1);
-  t[0] = outerArc[0] + wrapped(frontArc[start] - outerArc[0]);
-  for (std::size_t j = 1; j < n; ++j) {
-    const double step = wrapped(frontArc[(start + j) % n] - frontArc[(start + j - 1) % n]);
-    t[j] = std::max(t[j - 1], t[j - 1] + step);
-  }
-  t[n] = t[0] + loopLength;
-  std::vector<double> s(outerArc);
-  s.push_back(outerArc[0] + loopLength);
+  std::vector<double> s(outerParam), t(frontParam);
+  s.push_back(outerParam[0] + length);
+  t.push_back(frontParam[0] + length);
+  for (std::size_t j = 1; j <= n; ++j) t[j] = std::max(t[j], t[j - 1]);
 
   // Zip the two sequences: each step adds the triangle on the next outer edge or the one on the
   // next front edge. Prefer the one that faces the surface's side and has the larger smallest
@@ -215,7 +206,7 @@ void stitchStrip(const std::vector<Eigen::Vector3d>& positions,
   std::size_t i = 0, j = 0;
   while (i < m || j < n) {
     const int b0 = outer[i % m], b1 = outer[(i + 1) % m];
-    const int l0 = front[(start + j) % n], l1 = front[(start + j + 1) % n];
+    const int l0 = front[j % n], l1 = front[(j + 1) % n];
     bool advanceOuter = j == n;
     if (i < m && j < n) {
       const double onOuter = quality(b0, b1, l0, normals[l0]);
@@ -234,6 +225,27 @@ void stitchStrip(const std::vector<Eigen::Vector3d>& positions,
       ++j;
     }
   }
+}
+
+void alignFrontToLoop(const std::vector<double>& outerArc, std::vector<int>& front,
+                      std::vector<double>& frontArc, double loopLength) {
+  const std::size_t n = front.size();
+  const auto wrapped = [&](double d) { return d - loopLength * std::round(d / loopLength); };
+  std::size_t start = 0;
+  for (std::size_t j = 1; j < n; ++j)
+    if (std::abs(wrapped(frontArc[j] - outerArc[0])) <
+        std::abs(wrapped(frontArc[start] - outerArc[0])))
+      start = j;
+  std::vector<int> rotated(n);
+  std::vector<double> param(n);
+  param[0] = outerArc[0] + wrapped(frontArc[start] - outerArc[0]);
+  for (std::size_t j = 0; j < n; ++j) {
+    rotated[j] = front[(start + j) % n];
+    if (j > 0)
+      param[j] = param[j - 1] + wrapped(frontArc[(start + j) % n] - frontArc[(start + j - 1) % n]);
+  }
+  front = std::move(rotated);
+  frontArc = std::move(param);
 }
 
 int fillHole(const std::vector<int>& loop, std::vector<Eigen::Vector3d>& positions,

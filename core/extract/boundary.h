@@ -55,23 +55,31 @@ class BoundaryIndex {
 
 /// Arc-length positions of the samples that replace input boundary loop `loop`: about one per
 /// `spacing`, always including the points whose polyline turns by more than `sharpAngleDeg`
-/// (sharp corners), at least 3. Ascending in [0, loopLength).
+/// (sharp corners) unless within half a spacing of the previous corner, at least 3. Ascending in
+/// [0, loopLength).
 std::vector<double> sampleBoundaryLoop(const BoundaryIndex& index, int loop, double spacing,
                                        double sharpAngleDeg);
 
 /// Triangulates the strip between an outer loop (samples on the input boundary, the surface on
 /// its left) and an inner front (a boundary loop of the lattice triangles, which lie on its left),
-/// both closed and running the same way. outerArc: ascending arc positions of the samples;
-/// frontArc: arc positions of the front vertices' nearest points on the same loop; loopLength the
-/// loop's length; normals: the surface normal at each front vertex (indexed like positions).
+/// both closed and running the same way, starting from the pair (outer[0], front[0]).
+/// outerParam: ascending positions of the samples along the outer loop, of total length
+/// `length`; frontParam: positions of the front vertices along the same loop (made
+/// non-decreasing); normals: the surface normal at each front vertex (indexed like positions).
 /// Each step adds the triangle on the next sample edge or on the next front edge, whichever faces
-/// along the normals with the larger smallest angle (advancing along the loop when neither does).
-/// Appends consistently oriented triangles to `out`.
+/// along the normals with the larger smallest angle, without letting either side run ahead of the
+/// other (advancing by position when neither faces the right way). Appends to `out`.
 void stitchStrip(const std::vector<Eigen::Vector3d>& positions,
                  const std::vector<Eigen::Vector3d>& normals, const std::vector<int>& outer,
-                 const std::vector<double>& outerArc, const std::vector<int>& front,
-                 const std::vector<double>& frontArc, double loopLength,
+                 const std::vector<double>& outerParam, const std::vector<int>& front,
+                 const std::vector<double>& frontParam, double length,
                  std::vector<Triangle>& out);
+
+/// Rotates a front so that it starts at the vertex nearest (along the loop) to the first sample,
+/// and turns its arc positions frontArc (in [0, loopLength)) into unwrapped positions that start
+/// near outerArc[0], for stitchStrip.
+void alignFrontToLoop(const std::vector<double>& outerArc, std::vector<int>& front,
+                      std::vector<double>& frontArc, double loopLength);
 
 /// Closes a hole bounded by `loop` (a boundary loop of the triangles, triangles on its left):
 /// one triangle for 3 vertices, the shorter diagonal for 4, else a fan around a new vertex at the

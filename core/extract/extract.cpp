@@ -517,6 +517,101 @@ void fillGap(const std::vector<int>& loop, Assembly& out, std::vector<Triangle>&
   }
 }
 
+/// Samples the input loops `inputs` at the front's edge length and stitches the strip between
+/// them and the lattice front (step 5). With several input loops, the front visits them one after
+/// the other; their samples are chained into one outer loop, each loop walked once around from
+/// the sample where the front arrives and joined to the next by a bridge edge, so the strip (a
+/// sphere with 1 + k holes) is triangulated in one zip.
+void stitchFront(const BoundaryIndex& index, const std::vector<int>& inputLoopComponent,
+                 const std::vector<int>& inputs, std::vector<int> front,
+                 const std::vector<double>& h, const std::vector<Eigen::Vector3d>& normals,
+                 const ExtractOptions& options, Assembly& out, std::vector<Triangle>& added,
+                 ExtractionReport& report) {
+  const std::size_t n = front.size();
+  std::vector<double> frontH;
+  for (const int v : front) frontH.push_back(h[v]);
+  const double spacing = median(frontH);
+  // The nearest of the input loops for each front vertex, and the arc position on it.
+  std::vector<int> label(n);
+  std::vector<double> arc(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    BoundaryIndex::Hit best;
+    for (const int i : inputs) {
+      const auto hit = index.nearestOnLoop(out.positions[front[j]], i);
+      if (hit.distance < best.distance) best = hit;
+    }
+    label[j] = best.loop, arc[j] = best.arc;
+  }
+  const auto addSamples = [&](int i) {
+    std::vector<double> sampleArc = sampleBoundaryLoop(index, i, spacing, options.sharpBoundaryAngle);
+    std::vector<int> samples;
+    for (const double s : sampleArc) {
+      samples.push_back(out.addVertex(index.pointAt(i, s), inputLoopComponent[i]));
+      out.onBoundary[samples.back()] = true;
+    }
+    report.boundarySamples += static_cast<long long>(samples.size());
+    return std::pair{samples, sampleArc};
+  };
+  if (inputs.size() == 1) {
+    const auto [samples, sampleArc] = addSamples(inputs[0]);
+    alignFrontToLoop(sampleArc, front, arc, index.loopLength(inputs[0]));
+    stitchStrip(out.positions, normals, samples, sampleArc, front, arc,
+                index.loopLength(inputs[0]), added);
+    return;
+  }
+  // Start the front where its label changes, so that each loop's first run begins a piece.
+  std::size_t start = 0;
+  for (std::size_t j = 0; j < n; ++j)
+    if (label[j] != label[(j + n - 1) % n]) {
+      start = j;
+      break;
+    }
+  std::vector<int> order;  // the input loops in the order the front reaches them
+  std::vector<double> entryArc;
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t j = (start + k) % n;
+    if (std::find(order.begin(), order.end(), label[j]) == order.end())
+      order.push_back(label[j]), entryArc.push_back(arc[j]);
+  }
+  std::vector<int> outer;
+  std::vector<double> outerParam;
+  std::map<int, std::pair<double, double>> offsetAndStart;  // loop -> (offset, start arc)
+  double offset = 0.0;
+  for (std::size_t o = 0; o < order.size(); ++o) {
+    const int i = order[o];
+    const double length = index.loopLength(i);
+    const auto [samples, sampleArc] = addSamples(i);
+    const auto wrapped = [&](double d) { return d - length * std::floor(d / length); };
+    std::size_t first = 0;
+    for (std::size_t k = 1; k < samples.size(); ++k)
+      if (std::min(wrapped(sampleArc[k] - entryArc[o]), length - wrapped(sampleArc[k] - entryArc[o])) <
+          std::min(wrapped(sampleArc[first] - entryArc[o]), length - wrapped(sampleArc[first] - entryArc[o])))
+        first = k;
+    if (!outer.empty()) offset += (out.positions[outer.back()] - out.positions[samples[first]]).norm();
+    offsetAndStart[i] = {offset, sampleArc[first]};
+    for (std::size_t k = 0; k <= samples.size(); ++k) {
+      const std::size_t at = (first + k) % samples.size();
+      outer.push_back(samples[at]);
+      outerParam.push_back(offset + (k == samples.size() ? length : wrapped(sampleArc[at] - sampleArc[first])));
+    }
+    offset = outerParam.back();
+  }
+  const double total = offset + (out.positions[outer.back()] - out.positions[outer.front()]).norm();
+  std::vector<int> rotated(n);
+  std::vector<double> param(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t j = (start + k) % n;
+    rotated[k] = front[j];
+    const auto [base, startArc] = offsetAndStart.at(label[j]);
+    const double length = index.loopLength(label[j]);
+    double d = arc[j] - startArc;
+    d -= length * std::floor(d / length);
+    if (d > 0.75 * length) d -= length;  // just before the piece's first sample
+    param[k] = base + d;
+  }
+  stitchStrip(out.positions, normals, outer, outerParam, rotated, param, total, added);
+}
+
 /// Steps 4b and 5: resolves every boundary loop of the lattice triangles: a front along an input
 /// boundary loop is stitched to that loop's samples (Follow) or left (Lattice); any other loop is
 /// a coverage gap and is filled.
@@ -541,62 +636,53 @@ void closeBoundaries(const TriMesh& mesh, const std::vector<int>& faceComponent,
     h = localEdgeLength(out);
   }
 
-  // Classify the loops of the lattice triangles: a front of input loop i when most of its
-  // vertices are within reach of loop i, else a gap.
+  // Classify the loops of the lattice triangles: a front when most of its vertices are within
+  // reach of the input boundary, else a gap. Each input loop is stitched to the front that has
+  // the most vertices near it; a front near several loops (the lattice does not fit between
+  // them) is stitched to all of them at once.
   const auto loops = traceBoundaryLoops(out.triangles);
-  std::vector<std::vector<int>> fronts(inputLoops.size());
-  std::vector<int> gaps;
-  for (int l = 0; l < static_cast<int>(loops.size()); ++l) {
-    std::map<int, int> votes;
+  std::vector<std::map<int, int>> votes(loops.size());
+  std::vector<bool> isFront(loops.size(), false);
+  for (std::size_t l = 0; l < loops.size(); ++l) {
+    int near = 0;
     for (const int v : loops[l]) {
       const double reach = (options.boundarySnapDistance + 2.0) * std::max(h[v], typical);
       const auto hit = index.nearest(out.positions[v], reach);
-      if (hit.loop >= 0) ++votes[hit.loop];
+      if (hit.loop >= 0) ++votes[l][hit.loop], ++near;
     }
-    const auto best = std::max_element(votes.begin(), votes.end(),
-                                       [](auto& x, auto& y) { return x.second < y.second; });
-    if (best != votes.end() && 2 * best->second >= static_cast<int>(loops[l].size()))
-      fronts[best->first].push_back(l);
-    else
-      gaps.push_back(l);
+    isFront[l] = 2 * near >= static_cast<int>(loops[l].size());
   }
+  std::vector<int> owner(inputLoops.size(), -1);
+  for (std::size_t l = 0; l < loops.size(); ++l) {
+    if (!isFront[l]) continue;
+    for (const auto& [i, count] : votes[l])
+      if (count >= 2 && (owner[i] < 0 || count > votes[owner[i]].at(i))) owner[i] = static_cast<int>(l);
+  }
+  std::vector<std::vector<int>> assigned(loops.size());
+  for (int i = 0; i < static_cast<int>(inputLoops.size()); ++i)
+    if (owner[i] >= 0) assigned[owner[i]].push_back(i);
 
   std::vector<bool> componentHasLattice(*std::max_element(faceComponent.begin(), faceComponent.end()) + 1,
                                         false);
   for (const auto& t : out.triangles) componentHasLattice[out.component[t[0]]] = true;
+  for (int i = 0; i < static_cast<int>(inputLoops.size()); ++i)
+    if (owner[i] < 0 && componentHasLattice[inputLoopComponent[i]]) ++report.unmatchedBoundaryLoops;
 
   const std::vector<Eigen::Vector3d> normals = vertexNormals(out);
   std::vector<Triangle> added;
-  for (int i = 0; i < static_cast<int>(inputLoops.size()); ++i) {
-    if (!componentHasLattice[inputLoopComponent[i]]) continue;  // the component is copied
-    if (fronts[i].size() != 1) ++report.unmatchedBoundaryLoops;
-    if (fronts[i].empty()) continue;
-    // The longest front is stitched; any other front of the same loop is closed as a gap.
-    std::stable_sort(fronts[i].begin(), fronts[i].end(),
-                     [&](int x, int y) { return loops[x].size() > loops[y].size(); });
-    gaps.insert(gaps.end(), fronts[i].begin() + 1, fronts[i].end());
-    const auto& front = loops[fronts[i][0]];
-    if (options.boundary != BoundaryMode::Follow) {
-      for (const int v : front) out.onBoundary[v] = true;
+  std::vector<int> gaps;
+  for (std::size_t l = 0; l < loops.size(); ++l) {
+    if (assigned[l].empty()) {
+      gaps.push_back(static_cast<int>(l));
       continue;
     }
-    std::vector<double> frontH;
-    for (const int v : front) frontH.push_back(h[v]);
-    const double spacing = median(frontH);
-    const auto sampleArc = sampleBoundaryLoop(index, i, spacing, options.sharpBoundaryAngle);
-    std::vector<int> samples;
-    for (const double s : sampleArc) {
-      samples.push_back(out.addVertex(index.pointAt(i, s), inputLoopComponent[i]));
-      out.onBoundary[samples.back()] = true;
-    }
-    report.boundarySamples += static_cast<long long>(samples.size());
-    std::vector<double> frontArc;
-    for (const int v : front) {
-      frontArc.push_back(index.nearestOnLoop(out.positions[v], i).arc);
+    if (options.boundary != BoundaryMode::Follow) {
+      for (const int v : loops[l]) out.onBoundary[v] = true;
+      continue;
     }
     const std::size_t before = added.size();
-    stitchStrip(out.positions, normals, samples, sampleArc, front, frontArc, index.loopLength(i),
-                added);
+    stitchFront(index, inputLoopComponent, assigned[l], loops[l], h, normals, options, out, added,
+                report);
     report.stripTriangles += static_cast<long long>(added.size() - before);
   }
   std::sort(gaps.begin(), gaps.end());
