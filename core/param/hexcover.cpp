@@ -229,9 +229,10 @@ FaceGeometry computeFaceGeometry(const TriMesh& mesh, const RosyField& field, co
 struct Unknowns {
   int realCount = 0;
   int integerCount = 0;
+  int scalarCount = 0;            // integer scalars 2·pair + j (more free ones may be appended)
   std::vector<int> vertexColumn;  // #V, first of two real columns or -1
   IntegerElimination elimination;
-  std::vector<int> freeColumn;    // #scalars, column of a free integer scalar or -1
+  std::vector<int> freeColumn;    // #elimination variables, column of a free one or -1
   using Row = std::vector<std::pair<int, double>>;
   std::vector<std::array<Row, 2>> wedgeRows;
 
@@ -252,7 +253,8 @@ Unknowns buildUnknowns(const TriMesh& mesh, const CutMesh& cm, int n) {
   for (const int pair : cm.vertexPair)
     if (pair >= 0) preferred[2 * pair] = preferred[2 * pair + 1] = true;
   u.elimination = eliminateIntegerConstraints(scalars, cm.rows, preferred);
-  u.freeColumn.assign(scalars, -1);
+  u.scalarCount = scalars;
+  u.freeColumn.assign(u.elimination.expression.size(), -1);
   for (const int x : u.elimination.freeVariables) u.freeColumn[x] = u.realCount + u.integerCount++;
 
   u.wedgeRows.resize(cm.wedgeVertex.size());
@@ -464,7 +466,7 @@ std::vector<std::vector<int>> roundingUnits(const Unknowns& u) {
   const auto& free = u.elimination.freeVariables;
   for (std::size_t i = 0; i < free.size(); ++i) {
     const int x = free[i];
-    if (x % 2 == 0 && i + 1 < free.size() && free[i + 1] == x + 1) {
+    if (x % 2 == 0 && x + 1 < u.scalarCount && i + 1 < free.size() && free[i + 1] == x + 1) {
       units.push_back({u.freeColumn[x], u.freeColumn[x + 1]});
       ++i;
     } else {

@@ -1,8 +1,10 @@
 #include "core/param/integer_elimination.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <map>
+#include <numeric>
 #include <set>
 #include <string>
 
@@ -77,6 +79,46 @@ IntegerElimination eliminateIntegerConstraints(int variableCount,
     dependent[pivot] = true;
   };
 
+  // Unimodular change of variables: the free x_p becomes x_p = y − k·x_q with a new free
+  // variable y (appended); returns y.
+  const auto shiftFree = [&](int p, int q, std::int64_t k) {
+    const int y = static_cast<int>(result.expression.size());
+    result.expression.emplace_back();
+    occurrences.emplace_back();
+    dependent.push_back(false);
+    eliminate({{p, 1}, {q, k}, {y, -1}}, p);
+    return y;
+  };
+
+  // Brings a row without unit coefficient to one with a unit: divide by the gcd of its
+  // coefficients (same integer solutions), then Euclid on the two smallest coefficients through
+  // unimodular changes of free variables. Never fails for a non-empty row.
+  const auto makeUnit = [&](std::map<int, std::int64_t>& row) {
+    while (true) {
+      std::int64_t g = 0;
+      for (const auto& [variable, coefficient] : row) g = std::gcd(g, std::llabs(coefficient));
+      for (auto& [variable, coefficient] : row) coefficient /= g;
+      int p = -1, q = -1;
+      for (const auto& [variable, coefficient] : row) {
+        if (std::llabs(coefficient) == 1) return;
+        if (p < 0 || std::llabs(coefficient) < std::llabs(row.at(p))) {
+          q = p;
+          p = variable;
+        } else if (q < 0 || std::llabs(coefficient) < std::llabs(row.at(q))) {
+          q = variable;
+        }
+      }
+      // c_p x_p + c_q x_q with x_p = y_p − k x_q: c_q becomes c_q − k c_p, |·| ≤ |c_p| / 2.
+      const std::int64_t k = static_cast<std::int64_t>(
+          std::llround(static_cast<double>(row.at(q)) / static_cast<double>(row.at(p))));
+      const int y = shiftFree(p, q, k);
+      row[y] = row.at(p);
+      const std::int64_t value = (row[q] -= k * row.at(p));
+      if (value == 0) row.erase(q);
+      row.erase(p);
+    }
+  };
+
   const auto choosePivot = [&](const std::map<int, std::int64_t>& row) {
     int best = -1;
     for (const auto& [variable, coefficient] : row) {
@@ -96,6 +138,7 @@ IntegerElimination eliminateIntegerConstraints(int variableCount,
     return best;
   };
 
+  bool lastPass = false;
   std::vector<const IntegerCombination*> pending;
   for (const auto& row : rows) pending.push_back(&row);
   while (!pending.empty()) {
@@ -107,21 +150,25 @@ IntegerElimination eliminateIntegerConstraints(int variableCount,
         continue;
       }
       const int pivot = choosePivot(reduced);
-      if (pivot < 0) {
+      if (pivot < 0 && !lastPass) {
         deferred.push_back(row);
+        continue;
+      }
+      if (pivot < 0) {
+        auto unit = reduced;
+        makeUnit(unit);
+        eliminate(unit, choosePivot(unit));
         continue;
       }
       eliminate(reduced, pivot);
     }
-    if (deferred.size() == pending.size())
-      throw Error(ErrorCode::NumericalFailure,
-                  "the integer constraints of the seam translations have no unit pivot (" +
-                      std::to_string(deferred.size()) +
-                      " rows left); the field's singularities cannot be placed on the lattice");
+    // Rows without a unit pivot wait for the others; when none makes progress they are
+    // brought to a unit pivot by unimodular changes of variables (makeUnit).
+    lastPass = deferred.size() == pending.size();
     pending = std::move(deferred);
   }
 
-  for (int x = 0; x < variableCount; ++x) {
+  for (int x = 0; x < static_cast<int>(result.expression.size()); ++x) {
     if (dependent[x]) continue;
     result.freeVariables.push_back(x);
     result.expression[x] = {{x, 1}};

@@ -18,7 +18,8 @@ namespace hexcover {
 using IntegerCombination = std::vector<std::pair<int, std::int64_t>>;
 
 struct IntegerElimination {
-  /// #variables: each variable as a combination of free variables.
+  /// #variables (+ variables introduced by unimodular changes, see below): each variable as a
+  /// combination of free variables.
   std::vector<IntegerCombination> expression;
   /// Free variables in increasing order.
   std::vector<int> freeVariables;
@@ -27,9 +28,11 @@ struct IntegerElimination {
 
 /// Eliminates `rows` over `variableCount` integer variables. Pivots: a unit coefficient, preferring
 /// variables listed in `preferredPivots` (flags, #variables or empty), then variables that occur in
-/// fewer expressions, then the lowest index. Throws Error(NumericalFailure) when a row has no unit
-/// coefficient left after substitution (the constraints do not define a lattice with a unimodular
-/// basis in these variables) or when coefficients overflow.
+/// fewer expressions, then the lowest index. A row left without a unit coefficient (e.g. the
+/// fixed point of a 90° holonomy, I − R = [[1, 1], [−1, 1]]) is divided by the gcd of its
+/// coefficients and reduced by Euclid's algorithm through unimodular changes of the free
+/// variables, which append new free variables (indices ≥ variableCount). Throws
+/// Error(NumericalFailure) when coefficients overflow.
 IntegerElimination eliminateIntegerConstraints(int variableCount,
                                                const std::vector<IntegerCombination>& rows,
                                                const std::vector<bool>& preferredPivots = {});

@@ -300,6 +300,22 @@ TEST(HexCover, QuadModeUsesGaussLatticeThroughTheSameCode) {
   EXPECT_NEAR(meanLatticeUnitLength(mesh, p) / options.edgeLength, 1.0, 0.05);
 }
 
+TEST(HexCover, QuadModeOnSphereKeepsSingularitiesOnGaussIntegers) {
+  // Index ±1/4 singularities: I − R is not unimodular for 90°, so the integer elimination needs
+  // its unimodular changes of variables here.
+  const TriMesh mesh = makeIcosphere(3);
+  FieldOptions fieldOptions;
+  fieldOptions.n = 4;
+  const RosyField field = computeRosyField(mesh, fieldOptions);
+  ASSERT_FALSE(field.singularities.empty());
+  ParamOptions options;
+  options.edgeLength = 0.15;
+  const Parameterization p = computeParameterization(mesh, field, options);
+  expectSeamless(mesh, p);
+  expectSingularitiesOnLattice(mesh, field, p);
+  expectCutOpensToDisks(mesh, field);
+}
+
 TEST(HexCover, GreedyRoundingIsAlsoSeamless) {
   const TriMesh mesh = makeIcosphere(3);
   const RosyField field = icosahedralField(mesh);

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
 #include "core/common/error.h"
 #include "core/param/integer_elimination.h"
 
@@ -18,7 +20,7 @@ std::int64_t evaluate(const IntegerCombination& combination, const std::vector<s
 void expectRowsHoldForFreeValues(const IntegerElimination& e,
                                  const std::vector<IntegerCombination>& rows, int variables) {
   for (int trial = 0; trial < 5; ++trial) {
-    std::vector<std::int64_t> free(variables, 0);
+    std::vector<std::int64_t> free(e.expression.size(), 0);
     for (const int x : e.freeVariables) free[x] = (x * 7 + trial * 3) % 11 - 5;
     std::vector<std::int64_t> all(variables);
     for (int x = 0; x < variables; ++x) all[x] = evaluate(e.expression[x], free);
@@ -50,9 +52,20 @@ TEST(IntegerElimination, SingularFixedPointIsIntegralForIntegerTranslations) {
   expectRowsHoldForFreeValues(e, rows, 4);
 }
 
-TEST(IntegerElimination, RowWithoutUnitPivotIsAnError) {
-  const std::vector<IntegerCombination> rows{{{0, 2}, {1, 4}}};
-  EXPECT_THROW(eliminateIntegerConstraints(2, rows), Error);
+TEST(IntegerElimination, RowsWithoutUnitPivotAreReducedByUnimodularChanges) {
+  // 2·x0 + 4·x1 = 0 (gcd 2) and 2·x2 + 3·x3 = 0 (Euclid): every integer solution is an integer
+  // combination of the free variables, one per row.
+  const std::vector<IntegerCombination> rows{{{0, 2}, {1, 4}}, {{2, 2}, {3, 3}}};
+  const IntegerElimination e = eliminateIntegerConstraints(4, rows);
+  EXPECT_EQ(e.freeVariables.size(), 2u);
+  std::vector<std::int64_t> free(e.expression.size(), 0);
+  for (const int x : e.freeVariables) free[x] = 1;
+  std::vector<std::int64_t> all(4);
+  for (int x = 0; x < 4; ++x) all[x] = evaluate(e.expression[x], free);
+  for (const auto& row : rows) EXPECT_EQ(evaluate(row, all), 0);
+  // The generator of 2·x2 + 3·x3 = 0 is ±(3, −2), not a multiple of it.
+  EXPECT_EQ(std::abs(all[2]), 3);
+  EXPECT_EQ(std::abs(all[3]), 2);
 }
 
 TEST(IntegerElimination, FixedVariablesBecomeZero) {
