@@ -102,7 +102,7 @@ int main() {
   for (int run = 0; run < kRuns; ++run) {
     // 1. Throughput with the default pool.
     {
-      ServerProcess server(dir.path / ("throughput" + std::to_string(run)));
+      ServerProcess server(dir.path / ("throughput" + std::to_string(run)), {"--drain-grace", "0"});
       auto client = server.client();
       const auto start = Clock::now();
       std::vector<std::string> locations;
@@ -116,7 +116,7 @@ int main() {
     }
     // 2. Status latency under 100 pollers while medium jobs run.
     {
-      ServerProcess server(dir.path / ("latency" + std::to_string(run)));
+      ServerProcess server(dir.path / ("latency" + std::to_string(run)), {"--drain-grace", "0"});
       auto client = server.client();
       std::vector<std::string> locations;
       for (int i = 0; i < 8; ++i) locations.push_back(submit(client, medium));
@@ -143,7 +143,8 @@ int main() {
     }
     // 3. Memory with 100 queued jobs (one worker busy with a large job).
     {
-      ServerProcess server(dir.path / ("memory" + std::to_string(run)), {"--workers", "1"});
+      ServerProcess server(dir.path / ("memory" + std::to_string(run)),
+                           {"--workers", "1", "--drain-grace", "0"});
       auto client = server.client();
       idleMiB.push_back(residentMiB(server.pid()));
       const std::string running = submit(client, large);

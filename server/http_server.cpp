@@ -183,6 +183,16 @@ void sendFailure(Response& res, const Log& log, const Request& req) {
   }
 }
 
+/// httplib::Server with a larger listen backlog: 0.11.4 listens with a backlog of 5, so a burst
+/// of new connections (100 pollers) overflows it and clients wait for SYN retransmission (1 s,
+/// then 3 s). Calling listen() again on the bound socket raises the backlog.
+class BackloggedServer final : public httplib::Server {
+ public:
+  bool raiseBacklog(int backlog) { return ::listen(svr_sock_, backlog) == 0; }
+};
+
+constexpr int kListenBacklog = 1024;
+
 }  // namespace
 
 const std::vector<Route>& HttpServer::routes() {
@@ -201,7 +211,7 @@ HttpServer::HttpServer(const ServerConfig& config, JobService& jobs, const Engin
       engine_(engine),
       metrics_(metrics),
       log_(log),
-      server_(std::make_unique<httplib::Server>()) {
+      server_(std::make_unique<BackloggedServer>()) {
   installRoutes();
 }
 
@@ -214,6 +224,8 @@ int HttpServer::bind() {
   if (port <= 0)
     throw std::runtime_error("cannot listen on " + config_.host + ":" +
                              std::to_string(config_.port) + " (address in use or invalid)");
+  if (!static_cast<BackloggedServer&>(*server_).raiseBacklog(kListenBacklog))
+    log_.warn("listen_backlog", {{"error", "cannot raise the listen backlog"}});
   return port;
 }
 
