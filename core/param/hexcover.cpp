@@ -803,6 +803,7 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
   {
     ScopedTimer timer(result.timings, "stiffening");
     // Stop after 3 re-solves without fewer flipped triangles: what remains is not a stiffness issue.
+    // Each re-solve is followed by a rounding repair (timed with the stiffening).
     int best = orientation.flipped + orientation.degenerate, sinceBest = 0;
     while ((orientation.flipped > 0 || orientation.degenerate > 0) &&
            result.stiffeningIterations < options.maxStiffeningIterations && sinceBest < 3) {
@@ -825,14 +826,13 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
       ++result.stiffeningIterations;
       snapped = snapCoordinates(mesh, cm, unknowns, x, n);
       orientation = countOrientation(mesh, cm, snapped, &flippedFaces);
+      // Stiffening moves the real unknowns; a rounding move may now remove what is left.
+      if (orientation.flipped > 0)
+        repairRounding(mesh, cm, unknowns, system, n, x, snapped, orientation, flippedFaces);
       const int remaining = orientation.flipped + orientation.degenerate;
       sinceBest = remaining < best ? 0 : sinceBest + 1;
       best = std::min(best, remaining);
     }
-  }
-  if (orientation.flipped > 0 && result.stiffeningIterations > 0) {
-    ScopedTimer timer(result.timings, "rounding repair");
-    repairRounding(mesh, cm, unknowns, system, n, x, snapped, orientation, flippedFaces);
   }
   result.flippedTriangles = orientation.flipped;
   result.degenerateTriangles = orientation.degenerate;
