@@ -51,7 +51,7 @@ class StubEngine final : public Engine {
                          {{"input", {{"non_manifold_edges", 1}}}});
     if (mesh.find("throw") != std::string::npos)
       throw std::runtime_error("secret internal detail at 0xdeadbeef");
-    for (int step = 0; !gateOpen; ++step) {
+    while (!gateOpen) {
       context.report("stub", 0.5);
       context.throwIfCanceled();
       std::this_thread::sleep_for(std::chrono::milliseconds(2));
