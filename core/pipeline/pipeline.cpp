@@ -8,6 +8,7 @@
 #include "core/geometry/curvature.h"
 #include "core/mesh/repair.h"
 #include "core/param/hexcover.h"
+#include "core/param/texture.h"
 
 namespace hexcover {
 
@@ -37,20 +38,6 @@ long long usedVertexCount(const TriMesh& mesh) {
   long long count = 0;
   for (const auto v : mesh.vertices()) count += mesh.is_isolated(v) ? 0 : 1;
   return count;
-}
-
-/// The repaired input with texture coordinates: the plane position a·e1 + b·e2 of each corner's
-/// lattice coordinates, one texture unit per lattice unit (seamless for hexagonal patterns whose
-/// tile has the lattice's periods, paper section 5.1).
-PolygonSoup texturedInput(const TriMesh& mesh, const Parameterization& param) {
-  PolygonSoup soup = toPolygonSoup(mesh);
-  soup.cornerTexcoords.reserve(soup.cornerVertices.size());
-  for (const auto f : mesh.faces())
-    for (const auto h : mesh.fh_range(f)) {
-      const Eigen::Vector2d& z = param.cornerCoords[h.idx()];
-      soup.cornerTexcoords.emplace_back(z.x() + 0.5 * z.y(), 0.5 * std::sqrt(3.0) * z.y());
-    }
-  return soup;
 }
 
 /// Adds `seconds` to the timing named `step`, or appends it.
@@ -151,7 +138,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   // Textured input and metrics.
   {
     ScopedTimer timer(result.timings, "texture");
-    result.textured = texturedInput(mesh, param);
+    result.textured = texturedSoup(mesh, param);
   }
   context.report("metrics", 0.0);
   {
