@@ -246,8 +246,10 @@ TEST(HttpApi, RunningJobStopsAtItsNextCancellationCheck) {
   auto client = server.client();
   const std::string location =
       client.Post("/v1/jobs", kTriangle, "model/obj")->get_header_value("Location");
+  // Running, and inside the engine (its first progress report names the stage).
   for (int i = 0; i < 500; ++i) {
-    if (nlohmann::json::parse(client.Get(location.c_str())->body).at("state") == "running") break;
+    const auto job = nlohmann::json::parse(client.Get(location.c_str())->body);
+    if (job.at("state") == "running" && job.at("stage") == "stub") break;
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   const auto running = nlohmann::json::parse(client.Get(location.c_str())->body);
