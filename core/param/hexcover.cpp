@@ -803,8 +803,16 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
   {
     ScopedTimer timer(result.timings, "stiffening");
     // Stop after 3 re-solves without fewer flipped triangles: what remains is not a stiffness issue.
-    // Each re-solve is followed by a rounding repair (timed with the stiffening).
+    // Each re-solve is followed by a rounding repair (timed with the stiffening). A later re-solve
+    // can fold a triangle that an earlier one had unfolded, so the best iterate (fewest flipped,
+    // then fewest degenerate triangles; the later one on ties) is the result.
     int best = orientation.flipped + orientation.degenerate, sinceBest = 0;
+    const auto fewerFaults = [](const Orientation& a, const Orientation& b) {
+      return a.flipped != b.flipped ? a.flipped < b.flipped : a.degenerate < b.degenerate;
+    };
+    Eigen::VectorXd bestX = x;
+    SnappedCoordinates bestSnapped = snapped;
+    Orientation bestOrientation = orientation;
     while ((orientation.flipped > 0 || orientation.degenerate > 0) &&
            result.stiffeningIterations < options.maxStiffeningIterations && sinceBest < 3) {
       context.throwIfCanceled();
@@ -832,7 +840,15 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
       const int remaining = orientation.flipped + orientation.degenerate;
       sinceBest = remaining < best ? 0 : sinceBest + 1;
       best = std::min(best, remaining);
+      if (!fewerFaults(bestOrientation, orientation)) {
+        bestX = x;
+        bestSnapped = snapped;
+        bestOrientation = orientation;
+      }
     }
+    x = std::move(bestX);
+    snapped = std::move(bestSnapped);
+    orientation = bestOrientation;
   }
   result.flippedTriangles = orientation.flipped;
   result.degenerateTriangles = orientation.degenerate;
