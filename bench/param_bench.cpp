@@ -20,37 +20,12 @@
 #include "core/mesh/load.h"
 #include "core/mesh/primitives.h"
 #include "core/param/hexcover.h"
+#include "tests/common/prescribed_fields.h"
 
 namespace {
 
 using namespace hexcover;
-
-Eigen::Vector3d faceCentroid(const TriMesh& mesh, OpenMesh::FaceHandle fh) {
-  Eigen::Vector3d c = Eigen::Vector3d::Zero();
-  for (const auto vh : mesh.fv_range(fh)) c += toEigen(mesh.point(vh)) / 3.0;
-  return c;
-}
-
-// The icosahedral 6-RoSy field of an icosphere: 12 singularities of index +1/6.
-RosyField icosahedralField(const TriMesh& mesh) {
-  const TriMesh ico = makeIcosphere(0);
-  std::vector<Eigen::Vector3d> directions;
-  for (const auto fh : mesh.faces()) {
-    const Eigen::Vector3d c = faceCentroid(mesh, fh).normalized();
-    double best = -2.0;
-    Eigen::Vector3d direction;
-    for (const auto gh : ico.faces()) {
-      const double score = faceCentroid(ico, gh).normalized().dot(c);
-      if (score <= best) continue;
-      best = score;
-      const auto h = ico.halfedge_handle(gh);
-      direction = toEigen(ico.point(ico.to_vertex_handle(h))) -
-                  toEigen(ico.point(ico.from_vertex_handle(h)));
-    }
-    directions.push_back(direction);
-  }
-  return rosyFieldFromDirections(mesh, directions, 6);
-}
+using test::icosahedralField;
 
 double median(std::vector<double> values) {
   std::sort(values.begin(), values.end());

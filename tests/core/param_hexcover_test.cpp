@@ -17,16 +17,14 @@
 #include "core/param/cut_graph.h"
 #include "core/param/hexcover.h"
 #include "core/param/lattice.h"
+#include "tests/common/prescribed_fields.h"
 #include "tests/common/test_meshes.h"
 
 namespace hexcover {
 namespace {
 
-Eigen::Vector3d faceCentroid(const TriMesh& mesh, OpenMesh::FaceHandle fh) {
-  Eigen::Vector3d c = Eigen::Vector3d::Zero();
-  for (const auto vh : mesh.fv_range(fh)) c += toEigen(mesh.point(vh)) / 3.0;
-  return c;
-}
+using test::faceCentroid;
+using test::icosahedralField;
 
 /// Torus: the direction of the major circle, a field without singularities. It has curl (unit
 /// speed around circles of different radii), so the parameterization cannot follow it exactly;
@@ -38,28 +36,6 @@ RosyField torusField(const TriMesh& mesh, int n) {
     directions.emplace_back(-c.y(), c.x(), 0.0);
   }
   return rosyFieldFromDirections(mesh, directions, n);
-}
-
-/// Icosphere: each face takes an edge direction of the icosahedron face it lies over; the
-/// 6-RoSy field is smooth except at the 12 icosahedron vertices (index +1/6 each).
-RosyField icosahedralField(const TriMesh& mesh) {
-  const TriMesh ico = makeIcosphere(0);
-  std::vector<Eigen::Vector3d> directions;
-  for (const auto fh : mesh.faces()) {
-    const Eigen::Vector3d c = faceCentroid(mesh, fh).normalized();
-    double best = -2.0;
-    Eigen::Vector3d direction;
-    for (const auto gh : ico.faces()) {
-      const double score = faceCentroid(ico, gh).normalized().dot(c);
-      if (score <= best) continue;
-      best = score;
-      const auto h = ico.halfedge_handle(gh);
-      direction = toEigen(ico.point(ico.to_vertex_handle(h))) -
-                  toEigen(ico.point(ico.from_vertex_handle(h)));
-    }
-    directions.push_back(direction);
-  }
-  return rosyFieldFromDirections(mesh, directions, 6);
 }
 
 RosyField constantField(const TriMesh& mesh, const Eigen::Vector3d& direction, int n) {
