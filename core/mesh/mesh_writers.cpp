@@ -82,16 +82,21 @@ class OutputFile {
   bool ok_ = true;
 };
 
+/// "x y z\n" of a point, shared by the OBJ and OFF vertex lines.
+void writeCoordinates(OutputFile& out, const Eigen::Vector3d& p) {
+  out.number(p.x());
+  out.write(' ');
+  out.number(p.y());
+  out.write(' ');
+  out.number(p.z());
+  out.write('\n');
+}
+
 void writeObj(const PolygonSoup& soup, OutputFile& out) {
   out.write("# written by hexcover\n");
   for (const auto& p : soup.positions) {
     out.write("v ");
-    out.number(p.x());
-    out.write(' ');
-    out.number(p.y());
-    out.write(' ');
-    out.number(p.z());
-    out.write('\n');
+    writeCoordinates(out, p);
   }
   const bool textured = !soup.cornerTexcoords.empty();
   for (const auto& uv : soup.cornerTexcoords) {
@@ -122,12 +127,7 @@ void writeOff(const PolygonSoup& soup, OutputFile& out) {
   out.number(std::uint64_t{soup.faceCount()});
   out.write(" 0\n");
   for (const auto& p : soup.positions) {
-    out.number(p.x());
-    out.write(' ');
-    out.number(p.y());
-    out.write(' ');
-    out.number(p.z());
-    out.write('\n');
+    writeCoordinates(out, p);
   }
   for (std::size_t f = 0; f < soup.faceCount(); ++f) {
     out.number(std::uint64_t{soup.faceSize(f)});
