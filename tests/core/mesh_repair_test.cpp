@@ -12,6 +12,7 @@
 #include "core/mesh/primitives.h"
 #include "core/mesh/repair.h"
 #include "core/mesh/validate.h"
+#include "tests/common/mesh_expectations.h"
 
 namespace hexcover {
 namespace {
@@ -52,15 +53,7 @@ void expectFacesAccountedFor(const MeshReport& report) {
                                              report.repairs.facesRefusedByMesh);
 }
 
-void expectManifoldAndOriented(const MeshStatistics& s) {
-  EXPECT_EQ(s.nonManifoldEdges, 0u);
-  EXPECT_EQ(s.nonManifoldVertices, 0u);
-  EXPECT_EQ(s.inconsistentlyOrientedEdges, 0u);
-  EXPECT_EQ(s.nonOrientableComponents, 0u);
-  EXPECT_EQ(s.degenerateFaces, 0u);
-  EXPECT_EQ(s.duplicateFaces, 0u);
-  EXPECT_EQ(s.unreferencedVertices, 0u);
-}
+using test::expectManifoldAndOriented;
 
 // Two tetrahedra (outward) that share vertex 0: a non-manifold vertex.
 PolygonSoup twoTetrahedraSharingAVertex() {

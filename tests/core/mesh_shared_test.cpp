@@ -11,20 +11,13 @@
 #include "core/common/error.h"
 #include "core/mesh/load.h"
 #include "core/mesh/validate.h"
+#include "tests/common/mesh_expectations.h"
 #include "tests/common/test_meshes.h"
 
 namespace hexcover {
 namespace {
 
-void expectCleanResult(const MeshStatistics& s) {
-  EXPECT_EQ(s.nonManifoldEdges, 0u);
-  EXPECT_EQ(s.nonManifoldVertices, 0u);
-  EXPECT_EQ(s.inconsistentlyOrientedEdges, 0u);
-  EXPECT_EQ(s.nonOrientableComponents, 0u);
-  EXPECT_EQ(s.degenerateFaces, 0u);
-  EXPECT_EQ(s.duplicateFaces, 0u);
-  EXPECT_EQ(s.unreferencedVertices, 0u);
-}
+using test::expectManifoldAndOriented;
 
 // V, F, χ, boundary loops and genus after repair, from shared/meshes/README.md (F in triangles).
 struct Expected {
@@ -69,7 +62,7 @@ TEST(SharedMeshes, CleanMeshesLoadWithTheirListedTopology) {
     EXPECT_EQ(result.boundaryLoops, e.loops);
     ASSERT_EQ(result.componentTopology.size(), 1u);
     EXPECT_EQ(result.componentTopology[0].genus, e.genus);
-    expectCleanResult(result);
+    expectManifoldAndOriented(result);
     EXPECT_EQ(loaded.report.repairs.droppedFaces, 0u);
     EXPECT_EQ(loaded.report.repairs.weldedVertices, 0u);
     EXPECT_EQ(loaded.report.repairs.flippedFaces, 0u);
@@ -239,7 +232,7 @@ TEST(SharedMeshes, EveryNastyMeshIsRepairedOrRefusedWithANamedDefect) {
     const RepairedMesh repaired = loadRepairedMesh(path);
     it->second.repaired(repaired);
     const MeshReport& report = repaired.report;
-    expectCleanResult(report.result);
+    expectManifoldAndOriented(report.result);
     EXPECT_EQ(report.input.triangles, report.result.faces + report.repairs.droppedFaces);
     EXPECT_EQ(report.repairs.facesRefusedByMesh, 0u);
   }
