@@ -14,6 +14,7 @@
 #include <string>
 
 #include "core/common/error.h"
+#include "core/param/conformal_scale.h"
 #include "core/param/cut_graph.h"
 #include "core/param/integer_elimination.h"
 #include "core/param/lattice.h"
@@ -300,27 +301,37 @@ Unknowns buildUnknowns(const TriMesh& mesh, const CutMesh& cm, int n) {
   return u;
 }
 
-// Energy (4) as least squares: 4 rows per face (∂u/∂x, ∂u/∂y, ∂v/∂x, ∂v/∂y in the combed frame)
-// over the columns of Unknowns, with targets (σ_f, 0, 0, σ_f), σ_f = s_f / h.
+// Energy (4) as least squares: rows (∂u/∂x, ∂u/∂y, ∂v/∂x, ∂v/∂y) per face in the combed frame
+// over the columns of Unknowns, with targets (σ_f, 0, 0, σ_f), σ_f = s_f / h; then two rows
+// √λ·(∂v/∂x + ∂u/∂y, ∂v/∂y − ∂u/∂x) = √λ·(∇v − J∇u) with target 0: the anti-conformal part of
+// the Jacobian. Energy (4) is |conformal part − σ·I|² + |anti-conformal part|²; the extra rows
+// weigh anisotropy (1 + 2λ) times more than a change of scale or rotation, so what the integer
+// constraints force on the map is taken up by angle-preserving changes where possible.
+constexpr int kRowsPerFace = 6;
+constexpr int kEnergyRows = 4;  // the rows of energy (4)
+
 struct LeastSquares {
-  SparseMatrix gradient;     // 4F × columns
-  Eigen::VectorXd target;    // 4F
+  SparseMatrix gradient;     // 6F × columns
+  Eigen::VectorXd target;    // 6F
   Eigen::VectorXd faceArea;  // F (0 for degenerate faces, which are left out)
 };
 
 LeastSquares buildLeastSquares(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
-                               const FaceGeometry& geometry, const std::vector<double>& faceScale) {
+                               const FaceGeometry& geometry, const std::vector<double>& faceScale,
+                               double conformalWeight) {
   const int nF = static_cast<int>(mesh.n_faces());
+  const double rootWeight = std::sqrt(conformalWeight);
   LeastSquares ls;
-  ls.target = Eigen::VectorXd::Zero(4 * nF);
+  ls.target = Eigen::VectorXd::Zero(kRowsPerFace * nF);
   ls.faceArea = Eigen::VectorXd::Zero(nF);
   std::vector<Triplet> triplets;
-  triplets.reserve(static_cast<std::size_t>(nF) * 48);
+  triplets.reserve(static_cast<std::size_t>(nF) * 72);
   for (const auto fh : mesh.faces()) {
     const int f = fh.idx();
     if (!(geometry.area[f] > 0.0)) continue;
     ls.faceArea[f] = geometry.area[f];
-    ls.target[4 * f] = ls.target[4 * f + 3] = faceScale[f];
+    const int row = kRowsPerFace * f;
+    ls.target[row] = ls.target[row + 3] = faceScale[f];
     int c = 0;
     for (const auto h : mesh.fh_range(fh)) {
       const auto& rows = u.wedgeRows[cm.halfedgeWedge[h.idx()]];
@@ -328,10 +339,19 @@ LeastSquares buildLeastSquares(const TriMesh& mesh, const CutMesh& cm, const Unk
       for (int coordinate = 0; coordinate < 2; ++coordinate)
         for (const auto& [column, value] : rows[coordinate])
           for (int axis = 0; axis < 2; ++axis)
-            triplets.emplace_back(4 * f + 2 * coordinate + axis, column, value * g[axis]);
+            triplets.emplace_back(row + 2 * coordinate + axis, column, value * g[axis]);
+      if (rootWeight == 0.0) continue;
+      for (const auto& [column, value] : rows[0]) {  // u
+        triplets.emplace_back(row + 4, column, rootWeight * value * g[1]);
+        triplets.emplace_back(row + 5, column, -rootWeight * value * g[0]);
+      }
+      for (const auto& [column, value] : rows[1]) {  // v
+        triplets.emplace_back(row + 4, column, rootWeight * value * g[0]);
+        triplets.emplace_back(row + 5, column, rootWeight * value * g[1]);
+      }
     }
   }
-  ls.gradient.resize(4 * nF, u.columns());
+  ls.gradient.resize(kRowsPerFace * nF, u.columns());
   ls.gradient.setFromTriplets(triplets.begin(), triplets.end());
   return ls;
 }
@@ -422,7 +442,7 @@ class EnergySystem {
     return r;
   }
 
-  /// Σ_f A_f |rows_f x − target_f|² (energy (4), unit weights).
+  /// Σ_f A_f |rows_f x − target_f|² (energy (4) plus the anisotropy rows, unit weights).
   double energy(const Eigen::VectorXd& x) const {
     const Eigen::VectorXd residual = ls_.gradient * x - ls_.target;
     return rowWeights(Eigen::VectorXd::Ones(ls_.faceArea.size())).dot(residual.cwiseAbs2());
@@ -432,7 +452,7 @@ class EnergySystem {
   Eigen::VectorXd rowWeights(const Eigen::VectorXd& faceWeight) const {
     Eigen::VectorXd w(ls_.target.size());
     for (Eigen::Index f = 0; f < ls_.faceArea.size(); ++f)
-      w.segment<4>(4 * f).setConstant(ls_.faceArea[f] * faceWeight[f]);
+      w.segment<kRowsPerFace>(kRowsPerFace * f).setConstant(ls_.faceArea[f] * faceWeight[f]);
     return w;
   }
 
@@ -649,6 +669,8 @@ void ParamOptions::validate() const {
   if (!(greedyBatchFraction > 0.0 && greedyBatchFraction <= 1.0))
     fail("greedy batch fraction must be in (0, 1]");
   if (maxStiffeningIterations < 0) fail("stiffening iterations must be ≥ 0");
+  if (!(std::isfinite(conformalWeight) && conformalWeight >= 0.0))
+    fail("conformal weight must be a finite number ≥ 0");
 }
 
 double edgeLengthForVertexCount(const TriMesh& mesh, int targetVertices, int n,
@@ -714,6 +736,11 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
       for (const auto vh : fh.vertices()) s += options.vertexSizing[vh.idx()] / 3.0;
       faceScale[fh.idx()] = s / result.edgeLength;
     }
+  if (options.conformalScale) {
+    ScopedTimer timer(result.timings, "conformal scale");
+    const std::vector<double> conformal = conformalFaceScale(mesh, field);
+    for (std::size_t f = 0; f < faceScale.size(); ++f) faceScale[f] *= conformal[f];
+  }
 
   context.report("parameterization", 0.0);
   CutGraph cut;
@@ -736,7 +763,7 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
   {
     ScopedTimer timer(result.timings, "assembly");
     geometry = computeFaceGeometry(mesh, field, cut);
-    ls = buildLeastSquares(mesh, cm, unknowns, geometry, faceScale);
+    ls = buildLeastSquares(mesh, cm, unknowns, geometry, faceScale, options.conformalWeight);
   }
   context.report("parameterization", 0.2);
 
@@ -818,7 +845,7 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
       context.throwIfCanceled();
       const Eigen::VectorXd residual = ls.gradient * x - ls.target;
       for (int f = 0; f < static_cast<int>(mesh.n_faces()); ++f) {
-        const double misfit = residual.segment<4>(4 * f).squaredNorm() /
+        const double misfit = residual.segment<kEnergyRows>(kRowsPerFace * f).squaredNorm() /
                               (2.0 * faceScale[f] * faceScale[f]);
         faceWeight[f] += std::min(5.0 * misfit, 20.0);
       }

@@ -43,6 +43,11 @@ struct ParamOptions {
   /// #V per-vertex sizing factors s > 0 (local lattice unit = h / s), or empty for uniform.
   /// See curvatureSizing for curvature-adaptive values.
   std::vector<double> vertexSizing;
+  /// Scale the field by the conformal factor of core/param/conformal_scale.h (target lengths
+  /// vary, angles are kept); false: unit field, energy (4) with |F_u| = 1/h.
+  bool conformalScale = true;
+  /// λ ≥ 0: extra weight on the anti-conformal part of the Jacobian (anisotropy), see hexcover.cpp.
+  double conformalWeight = 1.0;
   RoundingMethod rounding = RoundingMethod::Direct;
   /// Greedy rounding: fraction of the remaining integer unknowns rounded per re-solve, in (0, 1].
   double greedyBatchFraction = 0.25;

@@ -55,8 +55,10 @@ struct Parameterization {
   int flippedTriangles = 0;      ///< parameter triangles with negative orientation
   int degenerateTriangles = 0;   ///< parameter triangles with (near) zero area
   DistortionStats distortion;
-  double energy = 0.0;           ///< energy (4) of the final solution, in units of area/h²
-  double localEnergy = 0.0;      ///< energy (4) of the local step (no integer constraints)
+  /// Energy (4) plus the anisotropy term (ParamOptions::conformalWeight) of the final solution,
+  /// in units of area/h².
+  double energy = 0.0;
+  double localEnergy = 0.0;      ///< the same for the local step (no integer constraints)
   int flippedBeforeStiffening = 0;  ///< flipped triangles right after the final solve (before
                                     ///< rounding repair and stiffening)
   int stiffeningIterations = 0;  ///< re-solves spent on removing fold-overs

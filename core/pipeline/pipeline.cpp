@@ -7,6 +7,7 @@
 #include "core/common/memory.h"
 #include "core/geometry/curvature.h"
 #include "core/mesh/repair.h"
+#include "core/param/conformal_scale.h"
 #include "core/param/hexcover.h"
 #include "core/param/texture.h"
 
@@ -106,6 +107,11 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   }
   result.singularities = field.singularities;
   context.throwIfCanceled();
+  // The conformal scale varies the lattice unit around h; keep the vertex count of the target.
+  if (!options.edgeLength) {
+    ScopedTimer timer(result.timings, "sizing");
+    h *= std::sqrt(conformalVertexCountFactor(mesh, conformalFaceScale(mesh, field)));
+  }
 
   // 3 and 4. Parameterization and extraction; with a target vertex count, h is rescaled by
   // sqrt(V / K) until the remesh is within 8% of K (the promise is 10%), at most 4 runs.

@@ -2,6 +2,7 @@
 // lattice points, a cut graph that opens every component into a disk, alignment with the field,
 // scale, fold-over counts, on generated meshes with prescribed fields.
 
+#include <array>
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -162,16 +163,23 @@ double meanAlignmentDegrees(const TriMesh& mesh, const RosyField& field, const P
 
 /// Mean surface length of one lattice unit: Σ surface length / Σ parameter length (Cartesian,
 /// units of h) over the edges of every triangle, i.e. h as realized along the mesh's edges.
+// Area-weighted mean over the faces of the surface length of one lattice unit in that face,
+// sqrt(surface area / parameter area).
 double meanLatticeUnitLength(const TriMesh& mesh, const Parameterization& p) {
   const Eigen::Matrix2d basis = latticeBasis(p.n);
-  double surface = 0.0, parameter = 0.0;
-  for (const auto fh : mesh.faces())
-    for (const auto h : mesh.fh_range(fh)) {
-      const auto previous = mesh.prev_halfedge_handle(h);
-      surface += mesh.calc_edge_length(h);
-      parameter += (basis * (p.cornerCoords[h.idx()] - p.cornerCoords[previous.idx()])).norm();
-    }
-  return surface / parameter;
+  double weighted = 0.0, total = 0.0;
+  for (const auto fh : mesh.faces()) {
+    std::array<Eigen::Vector2d, 3> q;
+    int c = 0;
+    for (const auto h : mesh.fh_range(fh)) q[c++] = basis * p.cornerCoords[h.idx()];
+    const Eigen::Vector2d a = q[1] - q[0], b = q[2] - q[0];
+    const double parameterArea = 0.5 * std::abs(a.x() * b.y() - a.y() * b.x());
+    const double area = mesh.calc_face_area(fh);
+    if (!(parameterArea > 0.0)) continue;
+    weighted += area * std::sqrt(area / parameterArea);
+    total += area;
+  }
+  return weighted / total;
 }
 
 void expectCutOpensToDisks(const TriMesh& mesh, const RosyField& field) {
