@@ -5,7 +5,7 @@
 find_package(embree 3.13 REQUIRED)
 target_link_libraries(hexcover_metrics PUBLIC embree)
 
-# core/param: SuiteSparse CHOLMOD behind Eigen's CholmodSupport (ParamOptions::solver).
+# core/param: SuiteSparse CHOLMOD (supernodal, on OpenBLAS) behind Eigen's CholmodSupport.
 find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)
 find_library(CHOLMOD_LIBRARY cholmod REQUIRED)
 target_include_directories(hexcover_param PUBLIC ${CHOLMOD_INCLUDE_DIR})

@@ -1,6 +1,6 @@
 #include "core/param/conformal_scale.h"
 
-#include <Eigen/SparseCholesky>
+#include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
@@ -81,7 +81,7 @@ std::vector<double> conformalFaceScale(const TriMesh& mesh, const RosyField& fie
       rhs[v] = 0.0;
     }
   laplacian.setFromTriplets(kept.begin(), kept.end());
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(laplacian);
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver(laplacian);
   if (solver.info() != Eigen::Success)
     throw Error(ErrorCode::NumericalFailure, "conformal scale: the Laplacian could not be factorized");
   const Eigen::VectorXd phi = solver.solve(rhs);

@@ -356,26 +356,31 @@ LeastSquares buildLeastSquares(const TriMesh& mesh, const CutMesh& cm, const Unk
   return ls;
 }
 
-// Sparse symmetric positive definite solves that keep the symbolic analysis across re-solves
-// with the same pattern (fixed unknowns only change values, see withFixed).
+// A sparse symmetric positive definite factorization that keeps its symbolic analysis across
+// refactorizations with the same pattern (new face weights only change values).
 class SpdSolver {
  public:
   explicit SpdSolver(LinearSolver kind) : kind_(kind) {}
 
-  Eigen::VectorXd solve(const SparseMatrix& a, const Eigen::VectorXd& b) {
-    if (kind_ == LinearSolver::Cholmod) return run(cholmod_, a, b);
-    return run(ldlt_, a, b);
+  void factorize(const SparseMatrix& a) {
+    if (kind_ == LinearSolver::Cholmod) run(cholmod_, a);
+    else run(ldlt_, a);
   }
 
-  /// Solves with the last factorization.
-  Eigen::VectorXd resolve(const Eigen::VectorXd& b) const {
-    return kind_ == LinearSolver::Cholmod ? Eigen::VectorXd(cholmod_.solve(b))
-                                          : Eigen::VectorXd(ldlt_.solve(b));
+  /// A⁻¹ b for one or several right-hand sides, with the last factorization (b itself when
+  /// nothing was factorized: the 0×0 system).
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& b) const {
+    if (b.rows() == 0) return b;
+    Eigen::MatrixXd x = kind_ == LinearSolver::Cholmod ? Eigen::MatrixXd(cholmod_.solve(b))
+                                                       : Eigen::MatrixXd(ldlt_.solve(b));
+    if (!x.allFinite())
+      throw Error(ErrorCode::NumericalFailure, "the parameterization solve produced non-finite values");
+    return x;
   }
 
  private:
   template <typename Factorization>
-  Eigen::VectorXd run(Factorization& factorization, const SparseMatrix& a, const Eigen::VectorXd& b) {
+  void run(Factorization& factorization, const SparseMatrix& a) {
     if (!analyzed_) {
       factorization.analyzePattern(a);
       analyzed_ = true;
@@ -384,10 +389,6 @@ class SpdSolver {
     if (factorization.info() != Eigen::Success)
       throw Error(ErrorCode::NumericalFailure,
                   "the parameterization system could not be factorized (degenerate mesh or field)");
-    Eigen::VectorXd x = factorization.solve(b);
-    if (!x.allFinite())
-      throw Error(ErrorCode::NumericalFailure, "the parameterization solve produced non-finite values");
-    return x;
   }
 
   LinearSolver kind_;
@@ -396,48 +397,87 @@ class SpdSolver {
   Eigen::CholmodSupernodalLLT<SparseMatrix> cholmod_;
 };
 
-// Normal equations AᵀWA x = AᵀW f with per-face weights, and re-solves with some unknowns fixed.
+// The normal equations AᵀWA x = AᵀW f of the least squares with per-face weights, split into
+// the real columns r (vertex coordinates, many) and the integer columns i (few):
+//   [A_rr A_ri; A_ir A_ii] [x_r; x_i] = [b_r; b_i].
+// A_rr is factorized once per set of weights; the integer unknowns are solved on the dense Schur
+// complement S = A_ii − A_ir A_rr⁻¹ A_ri, c = b_i − A_ir A_rr⁻¹ b_r, so the local solve, every
+// greedy rounding step and the final solve cost back-substitutions instead of factorizations.
 class EnergySystem {
  public:
-  EnergySystem(const LeastSquares& ls, LinearSolver kind) : ls_(ls), solver_(kind) {}
+  EnergySystem(const LeastSquares& ls, int realCount, LinearSolver kind)
+      : ls_(ls), realCount_(realCount), solver_(kind) {}
 
-  /// Minimizes Σ_f weight_f·A_f·|rows_f x − target_f|² with x[j] = values[j] where fixed[j].
-  Eigen::VectorXd solve(const Eigen::VectorXd& faceWeight, const std::vector<bool>& fixed,
-                        const Eigen::VectorXd& values) {
+  /// Assembles and factorizes the system for the face weights (#F, > 0); with
+  /// `integersFree` also the Schur complement that solveIntegers needs.
+  void setFaceWeights(const Eigen::VectorXd& faceWeight, bool integersFree) {
     const Eigen::VectorXd rowWeight = rowWeights(faceWeight);
     SparseMatrix weighted = ls_.gradient;  // rows scaled by sqrt(weight), pattern kept
     for (int col = 0; col < weighted.outerSize(); ++col)
       for (SparseMatrix::InnerIterator it(weighted, col); it; ++it)
         it.valueRef() *= std::sqrt(rowWeight[it.row()]);
-    SparseMatrix a = SparseMatrix(weighted.transpose()) * weighted;
-    Eigen::VectorXd b = ls_.gradient.transpose() * rowWeight.cwiseProduct(ls_.target);
-    const double regularization = 1e-14 * a.diagonal().cwiseAbs().maxCoeff();
-    Eigen::VectorXd fixedValues = Eigen::VectorXd::Zero(a.cols());
-    for (int j = 0; j < a.cols(); ++j)
-      if (fixed[j]) fixedValues[j] = values[j];
-    b -= a * fixedValues;
-    unfixed_ = a;
-    fixed_ = fixed;
-    // Pattern-preserving elimination: zero the fixed rows and columns, unit diagonal.
-    for (int col = 0; col < a.outerSize(); ++col)
-      for (SparseMatrix::InnerIterator it(a, col); it; ++it) {
-        if (fixed[it.row()] || fixed[it.col()])
-          it.valueRef() = it.row() == it.col() ? 1.0 : 0.0;
-        else if (it.row() == it.col())
-          it.valueRef() += regularization;
-      }
-    for (int j = 0; j < a.cols(); ++j)
-      if (fixed[j]) b[j] = fixedValues[j];
-    return solver_.solve(a, b);
+    const SparseMatrix a = SparseMatrix(weighted.transpose()) * weighted;
+    const Eigen::VectorXd b = ls_.gradient.transpose() * rowWeight.cwiseProduct(ls_.target);
+    const int r = realCount_, k = static_cast<int>(a.cols()) - realCount_;
+    ari_ = a.topRightCorner(r, k);
+    br_ = b.head(r);
+    z_ = br_;
+    if (r > 0) {  // r = 0 when every vertex is singular (a minimal cube)
+      SparseMatrix arr = a.topLeftCorner(r, r);
+      const double regularization = 1e-14 * arr.diagonal().cwiseAbs().maxCoeff();
+      for (int j = 0; j < r; ++j) arr.coeffRef(j, j) += regularization;
+      solver_.factorize(arr);
+      z_ = solver_.solve(br_);
+    }
+    if (!integersFree) return;
+    // S and c by blocks of integer columns (bounded memory for large k).
+    constexpr int kBlock = 64;
+    schur_ = Eigen::MatrixXd(a.bottomRightCorner(k, k));
+    c_ = b.tail(k) - ari_.transpose() * z_;
+    for (int first = 0; first < k; first += kBlock) {
+      const int width = std::min(kBlock, k - first);
+      const Eigen::MatrixXd y = solver_.solve(Eigen::MatrixXd(ari_.middleCols(first, width)));
+      schur_.middleCols(first, width) -= ari_.transpose() * y;
+    }
   }
 
-  /// ∂x/∂x_j of the last solve's minimizer for a fixed unknown j (one back-substitution with the
-  /// last factorization): changing x_j by δ moves the minimizer by δ times this.
+  /// Integer unknowns (#i) of the minimizer with x_i[j] = values[j] where fixed[j] (integer
+  /// columns counted from 0).
+  Eigen::VectorXd solveIntegers(const std::vector<bool>& fixed, const Eigen::VectorXd& values) const {
+    const int k = static_cast<int>(c_.size());
+    std::vector<int> free, held;
+    for (int j = 0; j < k; ++j) (fixed[j] ? held : free).push_back(j);
+    Eigen::VectorXd x = values;
+    if (free.empty()) return x;
+    Eigen::MatrixXd sff(free.size(), free.size());
+    Eigen::VectorXd rhs(free.size());
+    for (std::size_t p = 0; p < free.size(); ++p) {
+      rhs[p] = c_[free[p]];
+      for (const int g : held) rhs[p] -= schur_(free[p], g) * values[g];
+      for (std::size_t q = 0; q < free.size(); ++q) sff(p, q) = schur_(free[p], free[q]);
+    }
+    const Eigen::VectorXd xf = sff.ldlt().solve(rhs);
+    if (!xf.allFinite())
+      throw Error(ErrorCode::NumericalFailure, "the parameterization's integer system is singular");
+    for (std::size_t p = 0; p < free.size(); ++p) x[free[p]] = xf[p];
+    return x;
+  }
+
+  /// The whole minimizer for given integer unknowns: x_r = A_rr⁻¹ (b_r − A_ri x_i).
+  Eigen::VectorXd withReals(const Eigen::VectorXd& integers) const {
+    Eigen::VectorXd x(realCount_ + integers.size());
+    x.head(realCount_) = integers.size() > 0
+                             ? Eigen::VectorXd(z_ - solver_.solve(ari_ * integers))
+                             : z_;
+    x.tail(integers.size()) = integers;
+    return x;
+  }
+
+  /// ∂x/∂x_j of the minimizer with every integer unknown fixed, for integer column j (counted
+  /// over all columns): changing x_j by δ moves the minimizer by δ times this.
   Eigen::VectorXd response(int j) const {
-    Eigen::VectorXd rhs = -Eigen::VectorXd(unfixed_.col(j));
-    for (Eigen::Index i = 0; i < rhs.size(); ++i)
-      if (fixed_[i]) rhs[i] = 0.0;
-    Eigen::VectorXd r = solver_.resolve(rhs);
+    Eigen::VectorXd r = Eigen::VectorXd::Zero(realCount_ + c_.size());
+    r.head(realCount_) = -solver_.solve(Eigen::VectorXd(ari_.col(j - realCount_)));
     r[j] = 1.0;
     return r;
   }
@@ -457,9 +497,13 @@ class EnergySystem {
   }
 
   const LeastSquares& ls_;
+  int realCount_;
   SpdSolver solver_;
-  SparseMatrix unfixed_;     // the last system before fixing unknowns
-  std::vector<bool> fixed_;  // the last solve's fixed unknowns
+  SparseMatrix ari_;       // A_ri
+  Eigen::VectorXd br_;     // b_r
+  Eigen::VectorXd z_;      // A_rr⁻¹ b_r
+  Eigen::MatrixXd schur_;  // S
+  Eigen::VectorXd c_;      // c
 };
 
 // Nearest lattice point of a 2D unknown in the Euclidean metric of the plane: the best corner
@@ -768,13 +812,15 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
   context.report("parameterization", 0.2);
 
   const int columns = unknowns.columns();
-  EnergySystem system(ls, options.solver);
+  const int realCount = unknowns.realCount;
+  EnergySystem system(ls, realCount, options.solver);
   Eigen::VectorXd faceWeight = Eigen::VectorXd::Ones(mesh.n_faces());
-  std::vector<bool> fixed(columns, false);
   Eigen::VectorXd x;
   {
     ScopedTimer timer(result.timings, "local solve");
-    x = system.solve(faceWeight, fixed, Eigen::VectorXd::Zero(columns));
+    system.setFaceWeights(faceWeight, true);
+    x = system.withReals(system.solveIntegers(std::vector<bool>(columns - realCount, false),
+                                              Eigen::VectorXd::Zero(columns - realCount)));
   }
   result.localEnergy = system.energy(x);
   context.throwIfCanceled();
@@ -787,6 +833,9 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
     if (options.rounding == RoundingMethod::Direct) {
       for (const auto& unit : units) roundUnit(unit, x, basis, true);
     } else {
+      // Greedy: round the units closest to the lattice, re-solve the rest on the Schur
+      // complement (the real unknowns follow at the final solve).
+      std::vector<bool> fixed(columns - realCount, false);
       while (!units.empty()) {
         std::vector<std::pair<double, std::size_t>> order;
         for (std::size_t i = 0; i < units.size(); ++i)
@@ -798,22 +847,22 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
         for (std::size_t k = 0; k < count; ++k) {
           const auto& unit = units[order[k].second];
           roundUnit(unit, x, basis, true);
-          for (const int column : unit) fixed[column] = true;
+          for (const int column : unit) fixed[column - realCount] = true;
           taken[order[k].second] = true;
         }
         std::vector<std::vector<int>> remaining;
         for (std::size_t i = 0; i < units.size(); ++i)
           if (!taken[i]) remaining.push_back(std::move(units[i]));
         units = std::move(remaining);
-        if (!units.empty()) x = system.solve(faceWeight, fixed, x);
+        if (!units.empty())
+          x.tail(columns - realCount) = system.solveIntegers(fixed, x.tail(columns - realCount));
         context.throwIfCanceled();
       }
     }
-    for (int j = unknowns.realCount; j < columns; ++j) fixed[j] = true;
   }
   {
     ScopedTimer timer(result.timings, "final solve");
-    x = system.solve(faceWeight, fixed, x);
+    x = system.withReals(x.tail(columns - realCount));
   }
   context.report("parameterization", 0.7);
 
@@ -857,7 +906,8 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
             for (const auto gh : vh.faces()) stiffen[gh.idx()] = true;
       for (int f = 0; f < static_cast<int>(mesh.n_faces()); ++f)
         if (stiffen[f]) faceWeight[f] *= 2.0;
-      x = system.solve(faceWeight, fixed, x);
+      system.setFaceWeights(faceWeight, false);
+      x = system.withReals(x.tail(columns - realCount));
       ++result.stiffeningIterations;
       snapped = snapCoordinates(mesh, cm, unknowns, x, n);
       orientation = countOrientation(mesh, cm, snapped, &flippedFaces);

@@ -53,7 +53,8 @@ struct ParamOptions {
   double greedyBatchFraction = 0.25;
   /// Maximum stiffening re-solves while flipped triangles remain (0 disables stiffening).
   int maxStiffeningIterations = 10;
-  LinearSolver solver = LinearSolver::SimplicialLDLT;
+  /// CHOLMOD by default: with OpenBLAS it factorizes the bunny's system 2.6x faster (bench_param).
+  LinearSolver solver = LinearSolver::Cholmod;
 
   /// Throws Error(InvalidOption) naming the first bad option.
   void validate() const;

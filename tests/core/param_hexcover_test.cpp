@@ -259,6 +259,21 @@ TEST(HexCover, IcosphereSingularitiesSitOnLatticePoints) {
   EXPECT_LT(meanAlignmentDegrees(mesh, field, p), 5.0);
 }
 
+// Every vertex of the icosahedron is a singularity: no real unknowns are left, only integers.
+TEST(HexCover, IcosahedronWithOnlySingularVerticesIsALatticeMap) {
+  const TriMesh mesh = makeIcosphere(0);
+  const RosyField field = icosahedralField(mesh);
+  ASSERT_EQ(field.singularities.size(), mesh.n_vertices());
+  for (const double h : {0.5, 1.0}) {
+    ParamOptions options;
+    options.edgeLength = h;
+    const Parameterization p = computeParameterization(mesh, field, options);
+    expectSeamless(mesh, p);
+    expectSingularitiesOnLattice(mesh, field, p);
+    for (const auto& c : p.cornerCoords) EXPECT_TRUE(isInteger(c.x()) && isInteger(c.y()));
+  }
+}
+
 TEST(HexCover, TubeIsCutBetweenItsTwoBoundaryLoops) {
   const TriMesh mesh = makeTube(1.0, 3.0, 48, 27);
   const RosyField field = constantField(mesh, Eigen::Vector3d::UnitZ(), 6);
