@@ -7,6 +7,7 @@
 
 #include "core/common/error.h"
 #include "core/geometry/frames.h"
+#include "core/param/blas_threads.h"
 
 namespace hexcover {
 namespace {
@@ -81,6 +82,7 @@ std::vector<double> conformalFaceScale(const TriMesh& mesh, const RosyField& fie
       rhs[v] = 0.0;
     }
   laplacian.setFromTriplets(kept.begin(), kept.end());
+  useSingleThreadedBlas();
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver(laplacian);
   if (solver.info() != Eigen::Success)
     throw Error(ErrorCode::NumericalFailure, "conformal scale: the Laplacian could not be factorized");

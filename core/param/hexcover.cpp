@@ -14,6 +14,7 @@
 #include <string>
 
 #include "core/common/error.h"
+#include "core/param/blas_threads.h"
 #include "core/param/conformal_scale.h"
 #include "core/param/cut_graph.h"
 #include "core/param/integer_elimination.h"
@@ -360,7 +361,7 @@ LeastSquares buildLeastSquares(const TriMesh& mesh, const CutMesh& cm, const Unk
 // refactorizations with the same pattern (new face weights only change values).
 class SpdSolver {
  public:
-  explicit SpdSolver(LinearSolver kind) : kind_(kind) {}
+  explicit SpdSolver(LinearSolver kind) : kind_(kind) { useSingleThreadedBlas(); }
 
   void factorize(const SparseMatrix& a) {
     if (kind_ == LinearSolver::Cholmod) run(cholmod_, a);
@@ -461,6 +462,50 @@ class EnergySystem {
       throw Error(ErrorCode::NumericalFailure, "the parameterization's integer system is singular");
     for (std::size_t p = 0; p < free.size(); ++p) x[free[p]] = xf[p];
     return x;
+  }
+
+  /// Lattice descent on the rounded integer unknowns xi (#i): moves one rounding unit (integer
+  /// indices) to a neighbouring lattice point (for a pair: the 6 unit Eisenstein or 4 Gauss
+  /// steps; for a scalar: ±1) while that lowers the energy with the reals minimized out,
+  /// E(x_i) = x_iᵀ S x_i − 2 cᵀ x_i + const, whose change for a move d is 2 dᵀ(S x_i − c) + dᵀ S d.
+  /// Returns the number of moves made.
+  int descendIntegers(const std::vector<std::vector<int>>& units, int n, Eigen::VectorXd& xi) const {
+    const std::vector<Eigen::Vector2d> pairMoves =
+        n == 6 ? std::vector<Eigen::Vector2d>{{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, -1}, {-1, 1}}
+               : std::vector<Eigen::Vector2d>{{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+    const std::vector<Eigen::Vector2d> scalarMoves = {{1, 0}, {-1, 0}};
+    Eigen::VectorXd gradient = schur_ * xi - c_;
+    const double tolerance = 1e-12 * (1.0 + std::abs(xi.dot(schur_ * xi)));  // round-off guard
+    int moves = 0;
+    constexpr int kMaxPasses = 50;
+    for (int pass = 0; pass < kMaxPasses; ++pass) {
+      bool moved = false;
+      for (const auto& unit : units) {
+        double bestChange = -tolerance;
+        const Eigen::Vector2d* best = nullptr;
+        for (const auto& move : unit.size() == 2 ? pairMoves : scalarMoves) {
+          double change = 0.0;
+          for (std::size_t a = 0; a < unit.size(); ++a) {
+            change += 2.0 * move[a] * gradient[unit[a]];
+            for (std::size_t b = 0; b < unit.size(); ++b)
+              change += move[a] * move[b] * schur_(unit[a], unit[b]);
+          }
+          if (change < bestChange) {
+            bestChange = change;
+            best = &move;
+          }
+        }
+        if (!best) continue;
+        for (std::size_t a = 0; a < unit.size(); ++a) {
+          xi[unit[a]] += (*best)[a];
+          gradient += (*best)[a] * schur_.col(unit[a]);
+        }
+        ++moves;
+        moved = true;
+      }
+      if (!moved) break;
+    }
+    return moves;
   }
 
   /// The whole minimizer for given integer unknowns: x_r = A_rr⁻¹ (b_r − A_ri x_i).
@@ -859,6 +904,13 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
         context.throwIfCanceled();
       }
     }
+    std::vector<std::vector<int>> integerUnits = roundingUnits(unknowns);
+    for (auto& unit : integerUnits)
+      for (int& column : unit) column -= realCount;
+    Eigen::VectorXd integers = x.tail(columns - realCount);
+    if (options.latticeDescent)
+      result.latticeDescentMoves = system.descendIntegers(integerUnits, n, integers);
+    x.tail(columns - realCount) = integers;
   }
   {
     ScopedTimer timer(result.timings, "final solve");

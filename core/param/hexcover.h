@@ -48,7 +48,12 @@ struct ParamOptions {
   bool conformalScale = true;
   /// λ ≥ 0: extra weight on the anti-conformal part of the Jacobian (anisotropy), see hexcover.cpp.
   double conformalWeight = 1.0;
-  RoundingMethod rounding = RoundingMethod::Direct;
+  /// Greedy by default: once the integers are solved on the Schur complement it costs under a
+  /// millisecond on the bunny and lowers the energy by 0-50% (bench_param).
+  RoundingMethod rounding = RoundingMethod::Greedy;
+  /// After rounding, move single integer unknowns to neighbouring lattice points while the
+  /// energy drops (exact changes on the Schur complement).
+  bool latticeDescent = true;
   /// Greedy rounding: fraction of the remaining integer unknowns rounded per re-solve, in (0, 1].
   double greedyBatchFraction = 0.25;
   /// Maximum stiffening re-solves while flipped triangles remain (0 disables stiffening).

@@ -59,6 +59,7 @@ struct Parameterization {
   /// in units of area/h².
   double energy = 0.0;
   double localEnergy = 0.0;      ///< the same for the local step (no integer constraints)
+  int latticeDescentMoves = 0;  ///< rounding improvements by lattice descent (see hexcover.cpp)
   int flippedBeforeStiffening = 0;  ///< flipped triangles right after the final solve (before
                                     ///< rounding repair and stiffening)
   int stiffeningIterations = 0;  ///< re-solves spent on removing fold-overs

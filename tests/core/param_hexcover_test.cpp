@@ -3,6 +3,7 @@
 // scale, fold-over counts, on generated meshes with prescribed fields.
 
 #include <array>
+#include <thread>
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -331,6 +332,53 @@ TEST(HexCover, GreedyRoundingIsAlsoSeamless) {
   EXPECT_GE(greedy.energy, greedy.localEnergy * (1 - 1e-9));
   EXPECT_GE(direct.energy, direct.localEnergy * (1 - 1e-9));
   EXPECT_NEAR(greedy.localEnergy, direct.localEnergy, 1e-9 * direct.localEnergy);
+}
+
+// The descent moves integers only downhill: with it, direct rounding ends at an energy no higher
+// than without it, and at a 1-opt point (it makes no moves when started there again, which the
+// greedy result on this mesh already is).
+TEST(HexCover, LatticeDescentOnlyLowersTheEnergy) {
+  const TriMesh mesh = makeIcosphere(3);
+  const RosyField field = icosahedralField(mesh);
+  int moves = 0;
+  for (const double h : {0.11, 0.15, 0.23}) {
+    SCOPED_TRACE(h);
+    ParamOptions options;
+    options.edgeLength = h;
+    options.rounding = RoundingMethod::Direct;
+    options.latticeDescent = false;
+    const Parameterization plain = computeParameterization(mesh, field, options);
+    options.latticeDescent = true;
+    const Parameterization descended = computeParameterization(mesh, field, options);
+    ASSERT_EQ(plain.flippedTriangles + descended.flippedTriangles, 0);
+    ASSERT_EQ(plain.stiffeningIterations + descended.stiffeningIterations, 0);
+    EXPECT_LE(descended.energy, plain.energy * (1 + 1e-9));
+    if (descended.latticeDescentMoves > 0) EXPECT_LT(descended.energy, plain.energy);
+    expectSeamless(mesh, descended);
+    expectSingularitiesOnLattice(mesh, field, descended);
+    moves += descended.latticeDescentMoves;
+  }
+  EXPECT_GT(moves, 0) << "h = 0.23 rounds 4 units to a worse lattice point (energy 13.8 -> 3.0)";
+}
+
+// Workers parameterize at the same time: the sparse factorizations (CHOLMOD on OpenBLAS) must
+// neither interfere nor depend on timing. Concurrent runs match a sequential one bit for bit.
+TEST(HexCover, ConcurrentRunsAreIdenticalToASequentialOne) {
+  const TriMesh mesh = makeIcosphere(4);
+  const RosyField field = icosahedralField(mesh);
+  ParamOptions options;
+  options.edgeLength = 0.07;
+  const Parameterization reference = computeParameterization(mesh, field, options);
+  std::vector<Parameterization> results(4);
+  std::vector<std::thread> threads;
+  for (auto& result : results)
+    threads.emplace_back([&] { result = computeParameterization(mesh, field, options); });
+  for (auto& thread : threads) thread.join();
+  for (const auto& result : results) {
+    ASSERT_EQ(result.cornerCoords.size(), reference.cornerCoords.size());
+    EXPECT_TRUE(result.cornerCoords == reference.cornerCoords);
+    EXPECT_EQ(result.energy, reference.energy);
+  }
 }
 
 TEST(HexCover, EveryComponentGetsItsOwnDiskAndGauge) {
