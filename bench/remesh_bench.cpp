@@ -1,10 +1,13 @@
 // bench_remesh: the whole pipeline on every clean/ mesh at two resolutions (K = V/4 and K = V).
 // Prints one machine-readable line per run ("remesh mesh=... K=... key=value ...") and a markdown
 // table: output size, each stage's median time over the runs, peak memory and the metrics.
-// Usage: bench_remesh [--runs N] [--only NAME] [--quarter-only]
+// Usage: bench_remesh [--runs N] [--only NAME] [--quarter-only] [--subdivide S]
+// --subdivide S splits every triangle of the input 1-to-4 S times first (the 1M-face case:
+// --only stanford-bunny --subdivide 2 --quarter-only --runs 1, 1.1M faces).
 // Never asserts on time.
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -40,16 +43,53 @@ struct Row {
 
 const char* const kStages[] = {"repair", "field", "parameterization", "extraction", "metrics"};
 
+/// Splits every triangle 1-to-4 at its edge midpoints (shared midpoints, so the surface stays
+/// connected); faces with more corners are kept as they are.
+PolygonSoup subdivided(const PolygonSoup& soup) {
+  PolygonSoup out;
+  out.positions = soup.positions;
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> midpoint;
+  const auto middle = [&](std::uint32_t a, std::uint32_t b) {
+    const auto key = std::minmax(a, b);
+    const auto [it, inserted] = midpoint.try_emplace({key.first, key.second}, 0);
+    if (inserted) {
+      it->second = static_cast<std::uint32_t>(out.positions.size());
+      out.positions.push_back(0.5 * (soup.positions[a] + soup.positions[b]));
+    }
+    return it->second;
+  };
+  for (std::size_t f = 0; f < soup.faceCount(); ++f) {
+    const std::uint32_t* c = &soup.cornerVertices[soup.faceStarts[f]];
+    if (soup.faceSize(f) != 3) {
+      out.addFace(std::vector<std::uint32_t>(c, c + soup.faceSize(f)));
+      continue;
+    }
+    const std::uint32_t ab = middle(c[0], c[1]), bc = middle(c[1], c[2]), ca = middle(c[2], c[0]);
+    out.addFace(std::array<std::uint32_t, 3>{c[0], ab, ca});
+    out.addFace(std::array<std::uint32_t, 3>{ab, c[1], bc});
+    out.addFace(std::array<std::uint32_t, 3>{ca, bc, c[2]});
+    out.addFace(std::array<std::uint32_t, 3>{ab, bc, ca});
+  }
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   int runs = 5;
   std::string only;
   bool quarterOnly = false;
+  int subdivisions = 0;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--runs") && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
     else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
     else if (!std::strcmp(argv[i], "--quarter-only")) quarterOnly = true;
+    else if (!std::strcmp(argv[i], "--subdivide") && i + 1 < argc)
+      subdivisions = std::max(0, std::atoi(argv[++i]));
+    else {
+      std::cerr << "usage: bench_remesh [--runs N] [--only NAME] [--quarter-only] [--subdivide S]\n";
+      return 2;
+    }
   }
   const std::filesystem::path dir = std::filesystem::path(HEXCOVER_SHARED_MESHES) / "clean";
   if (!std::filesystem::is_directory(dir)) {
@@ -67,6 +107,7 @@ int main(int argc, char** argv) {
     PolygonSoup soup;
     try {
       soup = readMesh(file);
+      for (int k = 0; k < subdivisions; ++k) soup = subdivided(soup);
     } catch (const Error& e) {
       std::cerr << file << ": " << e.what() << "\n";
       continue;
@@ -79,7 +120,10 @@ int main(int argc, char** argv) {
     if (!quarterOnly) targets.push_back(vertices);
     for (const long long target : targets) {
       Row row;
-      row.mesh = file.filename().string();
+      row.mesh = file.filename().string() +
+                 (subdivisions > 0 ? " (subdivided " + std::to_string(subdivisions) + "x, " +
+                                         std::to_string(soup.faceCount()) + " faces)"
+                                   : std::string());
       row.inputVertices = vertices;
       row.target = target;
       RemeshOptions options;

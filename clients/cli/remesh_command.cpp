@@ -69,6 +69,7 @@ nlohmann::json metricsDocument(const RemeshResult& result) {
                         {"lattice_triangles", r.latticeTriangles},
                         {"boundary_samples", r.boundarySamples},
                         {"strip_triangles", r.stripTriangles},
+                        {"strip_flips", r.stripFlips},
                         {"flipped_param_triangles", r.flippedParamTriangles},
                         {"uncovered_triangles", r.uncoveredTriangles},
                         {"overlapping_triangles", r.overlappingTriangles},

@@ -1,5 +1,7 @@
 #include "core/extract/boundary.h"
 
+#include <unordered_set>
+
 #include <algorithm>
 #include <cmath>
 
@@ -273,6 +275,81 @@ int fillHole(const std::vector<int>& loop, std::vector<Eigen::Vector3d>& positio
   positions.push_back(centroid / static_cast<double>(n));
   for (std::size_t k = 0; k < n; ++k) out.push_back({loop[(k + 1) % n], loop[k], center});
   return static_cast<int>(n);
+}
+
+namespace {
+
+std::uint64_t undirectedKey(int a, int b) {
+  const auto [lo, hi] = std::minmax(a, b);
+  return (static_cast<std::uint64_t>(lo) << 32) | static_cast<std::uint32_t>(hi);
+}
+
+/// Smallest corner angle of triangle t (radians), 0 when degenerate.
+double minimumAngle(const std::vector<Eigen::Vector3d>& p, const Triangle& t) {
+  double smallest = M_PI;
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d u = p[t[(k + 1) % 3]] - p[t[k]], v = p[t[(k + 2) % 3]] - p[t[k]];
+    smallest = std::min(smallest, std::atan2(u.cross(v).norm(), u.dot(v)));
+  }
+  return smallest;
+}
+
+Eigen::Vector3d areaNormal(const std::vector<Eigen::Vector3d>& p, const Triangle& t) {
+  return (p[t[1]] - p[t[0]]).cross(p[t[2]] - p[t[0]]);
+}
+
+}  // namespace
+
+int improveByFlips(const std::vector<Eigen::Vector3d>& positions,
+                   const std::vector<Triangle>& others, std::vector<Triangle>& region) {
+  std::unordered_set<std::uint64_t> edges;
+  for (const std::vector<Triangle>* set : {&others, static_cast<const std::vector<Triangle>*>(&region)})
+    for (const auto& t : *set)
+      for (int k = 0; k < 3; ++k) edges.insert(undirectedKey(t[k], t[(k + 1) % 3]));
+  const double minimumCosine = 0.5;  // cos 60°
+  int flips = 0;
+  constexpr int kMaxPasses = 20;
+  for (int pass = 0; pass < kMaxPasses; ++pass) {
+    // Directed edge a→b → (triangle, corner of a).
+    std::unordered_map<std::uint64_t, std::pair<int, int>> directed;
+    for (int i = 0; i < static_cast<int>(region.size()); ++i)
+      for (int k = 0; k < 3; ++k)
+        directed[(static_cast<std::uint64_t>(region[i][k]) << 32) |
+                 static_cast<std::uint32_t>(region[i][(k + 1) % 3])] = {i, k};
+    std::vector<bool> touched(region.size(), false);
+    int passFlips = 0;
+    for (int i = 0; i < static_cast<int>(region.size()); ++i) {
+      for (int k = 0; k < 3 && !touched[i]; ++k) {
+        const int a = region[i][k], b = region[i][(k + 1) % 3], c = region[i][(k + 2) % 3];
+        const auto it = directed.find((static_cast<std::uint64_t>(b) << 32) | static_cast<std::uint32_t>(a));
+        if (it == directed.end() || touched[it->second.first] || it->second.first == i) continue;
+        const int j = it->second.first;
+        const int d = region[j][(it->second.second + 2) % 3];  // region[j] = (b, a, d)
+        if (c == d || edges.count(undirectedKey(c, d))) continue;
+        const Triangle first{a, d, c}, second{d, b, c};
+        const double before = std::min(minimumAngle(positions, region[i]), minimumAngle(positions, region[j]));
+        const double after = std::min(minimumAngle(positions, first), minimumAngle(positions, second));
+        if (!(after > before + 1e-9)) continue;
+        // The new triangles must face the way the pair does (the pair's area-weighted normal:
+        // a sliver's own normal is noise).
+        const Eigen::Vector3d mean =
+            (areaNormal(positions, region[i]) + areaNormal(positions, region[j])).normalized();
+        const Eigen::Vector3d n1 = areaNormal(positions, first), n2 = areaNormal(positions, second);
+        if (!(n1.norm() > 0.0 && n2.norm() > 0.0 && mean.dot(n1.normalized()) > minimumCosine &&
+              mean.dot(n2.normalized()) > minimumCosine))
+          continue;
+        edges.erase(undirectedKey(a, b));
+        edges.insert(undirectedKey(c, d));
+        region[i] = first;
+        region[j] = second;
+        touched[i] = touched[j] = true;
+        ++passFlips;
+      }
+    }
+    flips += passFlips;
+    if (passFlips == 0) break;
+  }
+  return flips;
 }
 
 }  // namespace hexcover::extract_detail

@@ -87,4 +87,12 @@ void alignFrontToLoop(const std::vector<double>& outerArc, std::vector<int>& fro
 int fillHole(const std::vector<int>& loop, std::vector<Eigen::Vector3d>& positions,
              std::vector<Triangle>& out);
 
+/// Lawson flips inside `region` (the triangles that stitching and hole filling added): an edge
+/// between two region triangles is flipped when that raises the smaller of their two minimum
+/// angles, the new edge exists nowhere yet (in `region` or `others`), and both new triangles face
+/// within 60° of the pair's area-weighted normal. Repeats while a flip helps (at most 20 passes). The
+/// lattice triangles (`others`) are not touched. Returns the number of flips.
+int improveByFlips(const std::vector<Eigen::Vector3d>& positions,
+                   const std::vector<Triangle>& others, std::vector<Triangle>& region);
+
 }  // namespace hexcover::extract_detail

@@ -687,6 +687,7 @@ void closeBoundaries(const TriMesh& mesh, const std::vector<int>& faceComponent,
   }
   std::sort(gaps.begin(), gaps.end());
   for (const int l : gaps) fillGap(loops[l], out, added, report);
+  report.stripFlips += improveByFlips(out.positions, out.triangles, added);
   out.triangles.insert(out.triangles.end(), added.begin(), added.end());
 }
 

@@ -63,6 +63,7 @@ struct ExtractionReport {
   long long boundarySnapped = 0;      ///< lattice vertices removed near the input boundary
   long long boundarySamples = 0;      ///< vertices placed on the input boundary
   long long stripTriangles = 0;       ///< triangles between the lattice front and the boundary
+  long long stripFlips = 0;           ///< edge flips among strip and fill triangles (min angle)
   long long flippedParamTriangles = 0;     ///< parameter triangles with negative orientation
   long long degenerateParamTriangles = 0;  ///< parameter triangles with zero area
   long long transitionsCorrected = 0;  ///< edges whose given transition disagreed with the coords
