@@ -518,12 +518,15 @@ class EnergySystem {
     return x;
   }
 
-  /// ∂x/∂x_j of the minimizer with every integer unknown fixed, for integer column j (counted
-  /// over all columns): changing x_j by δ moves the minimizer by δ times this.
-  Eigen::VectorXd response(int j) const {
-    Eigen::VectorXd r = Eigen::VectorXd::Zero(realCount_ + c_.size());
-    r.head(realCount_) = -solver_.solve(Eigen::VectorXd(ari_.col(j - realCount_)));
-    r[j] = 1.0;
+  /// Column k: ∂x/∂x_j of the minimizer with every integer unknown fixed, for the integer
+  /// column j = columns[k] (counted over all columns): changing x_j by δ moves the minimizer by
+  /// δ times this. One multi-right-hand-side solve.
+  Eigen::MatrixXd responses(const std::vector<int>& columns) const {
+    Eigen::MatrixXd rhs(realCount_, columns.size());
+    for (std::size_t k = 0; k < columns.size(); ++k) rhs.col(k) = ari_.col(columns[k] - realCount_);
+    Eigen::MatrixXd r = Eigen::MatrixXd::Zero(realCount_ + c_.size(), columns.size());
+    r.topRows(realCount_) = -solver_.solve(rhs);
+    for (std::size_t k = 0; k < columns.size(); ++k) r(columns[k], k) = 1.0;
     return r;
   }
 
@@ -706,10 +709,15 @@ void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
       if (involved.size() >= 32) break;
     }
     bool improved = false;
+    std::vector<int> columns;
+    for (const int i : involved) columns.insert(columns.end(), units[i].begin(), units[i].end());
+    const Eigen::MatrixXd allResponses = system.responses(columns);
+    int first = 0;  // column of allResponses for the unit's first unknown
     for (const int i : involved) {
       const auto& unit = units[i];
       std::vector<Eigen::VectorXd> response;
-      for (const int column : unit) response.push_back(system.response(column));
+      for (std::size_t k = 0; k < unit.size(); ++k) response.push_back(allResponses.col(first + k));
+      first += static_cast<int>(unit.size());
       std::vector<Eigen::Vector2d> moves;
       if (unit.size() == 2)
         moves = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, -1}, {-1, 1}};
