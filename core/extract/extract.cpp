@@ -765,7 +765,9 @@ void keepUncoveredComponents(const TriMesh& mesh, const std::vector<int>& faceCo
 }
 
 /// The referenced vertices and the triangles as an OpenMesh mesh; faces OpenMesh refuses (they
-/// would make a vertex or edge non-manifold) are counted.
+/// would make a vertex or edge non-manifold) are counted, and the holes they leave (boundary
+/// loops through no vertex of the output's boundary) are closed by a fan around the loop's
+/// centroid, as in step 4.
 TriMesh buildMesh(const Assembly& out, ExtractionReport& report) {
   TriMesh result;
   std::vector<VH> handle(out.positions.size());
@@ -784,6 +786,33 @@ TriMesh buildMesh(const Assembly& out, ExtractionReport& report) {
     pending = std::move(refused);
   }
   report.nonManifoldFacesDropped = static_cast<long long>(pending.size());
+  if (!pending.empty()) {
+    std::vector<int> assemblyVertex(result.n_vertices(), -1);
+    for (std::size_t v = 0; v < handle.size(); ++v)
+      if (handle[v].is_valid()) assemblyVertex[handle[v].idx()] = static_cast<int>(v);
+    std::vector<std::vector<OpenMesh::HalfedgeHandle>> holes;
+    std::vector<bool> seen(result.n_halfedges(), false);
+    for (const auto h : result.halfedges()) {
+      if (!result.is_boundary(h) || seen[h.idx()]) continue;
+      std::vector<OpenMesh::HalfedgeHandle> loop;
+      bool outputBoundary = false;
+      for (OpenMesh::HalfedgeHandle g = h; !seen[g.idx()]; g = result.next_halfedge_handle(g)) {
+        seen[g.idx()] = true;
+        loop.push_back(g);
+        outputBoundary = outputBoundary || out.onBoundary[assemblyVertex[result.from_vertex_handle(g).idx()]];
+      }
+      if (!outputBoundary && loop.size() >= 3) holes.push_back(std::move(loop));
+    }
+    for (const auto& loop : holes) {
+      Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+      for (const auto g : loop) centroid += toEigen(result.point(result.from_vertex_handle(g)));
+      const VH center = result.add_vertex(toOpenMesh(centroid / static_cast<double>(loop.size())));
+      // The boundary halfedge a→b has no face: the face (a, b, center) takes it.
+      for (const auto g : loop)
+        result.add_face(result.from_vertex_handle(g), result.to_vertex_handle(g), center);
+      ++report.holesFilled;
+    }
+  }
   // Vertices left without a face by refused faces are removed.
   if (report.nonManifoldFacesDropped > 0) {
     result.request_vertex_status();
