@@ -65,7 +65,15 @@ int runParam(int argc, char** argv) {
     std::vector<double> absMax(curvature.kappaMax.size());
     for (std::size_t v = 0; v < absMax.size(); ++v)
       absMax[v] = std::max(std::abs(curvature.kappaMax[v]), std::abs(curvature.kappaMin[v]));
-    options.vertexSizing = curvatureSizing(absMax);
+    // Smoothed over kSizingSmoothingInEdges uniform lattice units, as the pipeline does.
+    const double uniform =
+        options.edgeLength > 0.0
+            ? options.edgeLength
+            : edgeLengthForVertexCount(mesh, options.targetVertices > 0
+                                                 ? options.targetVertices
+                                                 : std::max(4, static_cast<int>(mesh.n_vertices()) / 4),
+                                       field.n);
+    options.vertexSizing = smoothSizing(mesh, curvatureSizing(absMax), kSizingSmoothingInEdges * uniform);
   }
   const Parameterization parameterization = computeParameterization(mesh, field, options);
   writeMesh(texturedSoup(mesh, parameterization), *output);

@@ -786,6 +786,41 @@ double edgeLengthForVertexCount(const TriMesh& mesh, int targetVertices, int n,
   return std::sqrt(sizedArea / (areaPerVertexOverH2 * targetVertices));
 }
 
+std::vector<double> smoothSizing(const TriMesh& mesh, const std::vector<double>& sizing,
+                                 double radius) {
+  const int nV = static_cast<int>(mesh.n_vertices());
+  if (static_cast<int>(sizing.size()) != nV)
+    throw Error(ErrorCode::InvalidOption, "sizing has " + std::to_string(sizing.size()) +
+                                              " values for " + std::to_string(nV) + " vertices");
+  for (const double s : sizing)
+    if (!(std::isfinite(s) && s > 0.0)) throw Error(ErrorCode::InvalidOption, "sizing values must be positive and finite");
+  double edgeSum = 0.0;
+  for (const auto eh : mesh.edges()) edgeSum += mesh.calc_edge_length(eh);
+  if (nV == 0 || mesh.n_edges() == 0 || !(radius > 0.0)) return sizing;
+  const double meanEdge = edgeSum / static_cast<double>(mesh.n_edges());
+  const double weight = (radius / meanEdge) * (radius / meanEdge);
+  std::vector<Triplet> triplets;
+  Eigen::VectorXd logSizing(nV);
+  for (int v = 0; v < nV; ++v) {
+    triplets.emplace_back(v, v, 1.0);
+    logSizing[v] = std::log(sizing[v]);
+  }
+  for (const auto eh : mesh.edges()) {
+    const int a = eh.v0().idx(), b = eh.v1().idx();
+    triplets.emplace_back(a, a, weight);
+    triplets.emplace_back(b, b, weight);
+    triplets.emplace_back(a, b, -weight);
+    triplets.emplace_back(b, a, -weight);
+  }
+  SparseMatrix system(nV, nV);
+  system.setFromTriplets(triplets.begin(), triplets.end());
+  const Eigen::SimplicialLDLT<SparseMatrix> solver(system);
+  const Eigen::VectorXd smoothed = solver.solve(logSizing);
+  std::vector<double> out(nV);
+  for (int v = 0; v < nV; ++v) out[v] = std::isfinite(smoothed[v]) ? std::exp(smoothed[v]) : sizing[v];
+  return out;
+}
+
 std::vector<double> curvatureSizing(const std::vector<double>& absMaxCurvature, double minScale,
                                     double maxScale) {
   if (absMaxCurvature.empty()) throw Error(ErrorCode::InvalidOption, "no curvature values given");

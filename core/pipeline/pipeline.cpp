@@ -78,16 +78,20 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   context.throwIfCanceled();
 
   // Sizing and the edge length h (a target of a quarter of the input's vertices by default).
+  // Curvature sizing is smoothed over kSizingSmoothingInEdges uniform edge lengths.
+  const long long target =
+      options.targetVertices.value_or(std::max<long long>(4, usedVertexCount(mesh) / 4));
   std::vector<double> sizing;
   if (options.sizing == Sizing::Curvature) {
     ScopedTimer timer(result.timings, "sizing");
     const Curvature curvature = computeCurvature(mesh);
     std::vector<double> absMax(curvature.kappaMax.size());
     for (std::size_t v = 0; v < absMax.size(); ++v) absMax[v] = std::abs(curvature.kappaMax[v]);
-    sizing = curvatureSizing(absMax);
+    const double uniform = options.edgeLength
+                               ? *options.edgeLength
+                               : edgeLengthForVertexCount(mesh, static_cast<int>(target), 6);
+    sizing = smoothSizing(mesh, curvatureSizing(absMax), kSizingSmoothingInEdges * uniform);
   }
-  const long long target =
-      options.targetVertices.value_or(std::max<long long>(4, usedVertexCount(mesh) / 4));
   double h = options.edgeLength ? *options.edgeLength
                                 : edgeLengthForVertexCount(mesh, static_cast<int>(target), 6, sizing);
   result.singularityDistance = options.dSing.value_or(kSingularityDistanceInEdges * h);
@@ -109,7 +113,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   context.throwIfCanceled();
   // The conformal scale varies the lattice unit around h; keep the vertex count of the target.
   if (!options.edgeLength) {
-    ScopedTimer timer(result.timings, "sizing");
+    ScopedTimer timer(result.timings, "conformal scale");
     h *= std::sqrt(conformalVertexCountFactor(mesh, conformalFaceScale(mesh, field)));
   }
 

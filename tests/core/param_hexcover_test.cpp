@@ -418,6 +418,29 @@ TEST(HexCover, VertexCountTargetSetsTheEdgeLength) {
               2.0 * h, 1e-12);
 }
 
+// Smoothing keeps a constant sizing, keeps values inside the input's range (maximum principle)
+// and takes out most of the variation of a checkerboard-like noise.
+TEST(HexCover, SmoothSizingDiffusesTheLogScaleWithinItsRange) {
+  const TriMesh mesh = makeIcosphere(4);
+  for (const double s : smoothSizing(mesh, std::vector<double>(mesh.n_vertices(), 1.7), 0.2))
+    EXPECT_NEAR(s, 1.7, 1e-12);
+  std::vector<double> noisy(mesh.n_vertices());
+  for (std::size_t v = 0; v < noisy.size(); ++v) noisy[v] = (v * 2654435761u) % 7 < 3 ? 0.5 : 2.0;
+  const std::vector<double> smooth = smoothSizing(mesh, noisy, 0.2);
+  const auto spread = [](const std::vector<double>& values) {
+    double mean = 0.0, square = 0.0;
+    for (const double v : values) mean += std::log(v) / values.size();
+    for (const double v : values) square += std::pow(std::log(v) - mean, 2) / values.size();
+    return std::sqrt(square);
+  };
+  for (const double s : smooth) {
+    EXPECT_GE(s, 0.5 - 1e-12);
+    EXPECT_LE(s, 2.0 + 1e-12);
+  }
+  EXPECT_LT(spread(smooth), 0.2 * spread(noisy));
+  EXPECT_THROW(smoothSizing(mesh, {1.0, 2.0}, 0.2), Error);
+}
+
 TEST(HexCover, CurvatureSizingIsRelativeToTheMedianAndClamped) {
   const std::vector<double> sizing = curvatureSizing({0.0, 1.0, 2.0, 4.0, 100.0}, 0.5, 3.0);
   EXPECT_DOUBLE_EQ(sizing[0], 0.5);
