@@ -1,5 +1,6 @@
 #include "core/param/hexcover.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/CholmodSupport>
 #include <Eigen/Geometry>
 #include <Eigen/SparseCholesky>
@@ -7,10 +8,10 @@
 #include <algorithm>
 #include <array>
 #include <functional>
-#include <map>
-#include <set>
 #include <cmath>
+#include <map>
 #include <numeric>
+#include <set>
 #include <string>
 
 #include "core/common/error.h"
