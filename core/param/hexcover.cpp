@@ -422,14 +422,13 @@ class EnergySystem {
     const Eigen::VectorXd b = ls_.gradient.transpose() * rowWeight.cwiseProduct(ls_.target);
     const int r = realCount_, k = static_cast<int>(a.cols()) - realCount_;
     ari_ = a.topRightCorner(r, k);
-    br_ = b.head(r);
-    z_ = br_;
+    z_ = b.head(r);
     if (r > 0) {  // r = 0 when every vertex is singular (a minimal cube)
       SparseMatrix arr = a.topLeftCorner(r, r);
       const double regularization = 1e-14 * arr.diagonal().cwiseAbs().maxCoeff();
       for (int j = 0; j < r; ++j) arr.coeffRef(j, j) += regularization;
       solver_.factorize(arr);
-      z_ = solver_.solve(br_);
+      z_ = solver_.solve(z_);
     }
     if (!integersFree) return;
     // S and c by blocks of integer columns (bounded memory for large k).
@@ -549,7 +548,6 @@ class EnergySystem {
   int realCount_;
   SpdSolver solver_;
   SparseMatrix ari_;       // A_ri
-  Eigen::VectorXd br_;     // b_r
   Eigen::VectorXd z_;      // A_rr⁻¹ b_r
   Eigen::MatrixXd schur_;  // S
   Eigen::VectorXd c_;      // c
@@ -855,13 +853,20 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
 
   int usedVertices = 0;
   for (const auto vh : mesh.vertices()) usedVertices += mesh.is_isolated(vh) ? 0 : 1;
-  result.edgeLength = options.edgeLength > 0.0
-                          ? options.edgeLength
-                          : edgeLengthForVertexCount(mesh,
-                                                     options.targetVertices > 0
-                                                         ? options.targetVertices
-                                                         : std::max(4, usedVertices / 4),
-                                                     isLatticeOrder(n) ? n : 6, options.vertexSizing);
+  std::vector<double> conformal;
+  if (options.conformalScale) {
+    ScopedTimer timer(result.timings, "conformal scale");
+    conformal = conformalFaceScale(mesh, field);
+  }
+  result.edgeLength = options.edgeLength;
+  if (!(result.edgeLength > 0.0)) {
+    // From the vertex count; the conformal scale varies the lattice unit around h, so h is
+    // corrected to keep the count.
+    result.edgeLength = edgeLengthForVertexCount(
+        mesh, options.targetVertices > 0 ? options.targetVertices : std::max(4, usedVertices / 4),
+        isLatticeOrder(n) ? n : 6, options.vertexSizing);
+    if (!conformal.empty()) result.edgeLength *= std::sqrt(conformalVertexCountFactor(mesh, conformal));
+  }
   std::vector<double> faceScale(mesh.n_faces(), 1.0 / result.edgeLength);
   if (!options.vertexSizing.empty())
     for (const auto fh : mesh.faces()) {
@@ -869,11 +874,7 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
       for (const auto vh : fh.vertices()) s += options.vertexSizing[vh.idx()] / 3.0;
       faceScale[fh.idx()] = s / result.edgeLength;
     }
-  if (options.conformalScale) {
-    ScopedTimer timer(result.timings, "conformal scale");
-    const std::vector<double> conformal = conformalFaceScale(mesh, field);
-    for (std::size_t f = 0; f < faceScale.size(); ++f) faceScale[f] *= conformal[f];
-  }
+  for (std::size_t f = 0; f < conformal.size(); ++f) faceScale[f] *= conformal[f];
 
   context.report("parameterization", 0.0);
   CutGraph cut;

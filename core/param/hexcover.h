@@ -38,7 +38,8 @@ struct ParamOptions {
   /// targetVertices; when both are unset, from a target of a quarter of the input's vertices
   /// (the pipeline's default).
   double edgeLength = 0.0;
-  /// K: the remesh should have about K vertices (h from the sized area, see edgeLengthForVertexCount).
+  /// K: the remesh should have about K vertices (h from the sized area, see
+  /// edgeLengthForVertexCount, times the conformal scale's correction, see conformal_scale.h).
   int targetVertices = 0;
   /// #V per-vertex sizing factors s > 0 (local lattice unit = h / s), or empty for uniform.
   /// See curvatureSizing for curvature-adaptive values.

@@ -7,7 +7,6 @@
 #include "core/common/memory.h"
 #include "core/geometry/curvature.h"
 #include "core/mesh/repair.h"
-#include "core/param/conformal_scale.h"
 #include "core/param/hexcover.h"
 #include "core/param/texture.h"
 
@@ -111,11 +110,6 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   }
   result.singularities = field.singularities;
   context.throwIfCanceled();
-  // The conformal scale varies the lattice unit around h; keep the vertex count of the target.
-  if (!options.edgeLength) {
-    ScopedTimer timer(result.timings, "conformal scale");
-    h *= std::sqrt(conformalVertexCountFactor(mesh, conformalFaceScale(mesh, field)));
-  }
 
   // 3 and 4. Parameterization and extraction; with a target vertex count, h is rescaled by
   // sqrt(V / K) until the remesh is within 8% of K (the promise is 10%), at most 4 runs.
@@ -125,9 +119,13 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   for (int run = 1;; ++run) {
     auto start = Clock::now();
     ParamOptions paramOptions;
-    paramOptions.edgeLength = h;
+    // The first run without an edge length derives h from the target (the parameterization
+    // corrects it for its conformal scale); later runs rescale the h it used.
+    if (run == 1 && !options.edgeLength) paramOptions.targetVertices = static_cast<int>(target);
+    else paramOptions.edgeLength = h;
     paramOptions.vertexSizing = sizing;
     param = computeParameterization(mesh, field, paramOptions, context);
+    h = param.edgeLength;
     addTiming(result.timings, "parameterization", secondsSince(start));
     context.throwIfCanceled();
 
