@@ -20,6 +20,7 @@ nlohmann::json toJson(const Parameterization& p) {
           {"edge_length", p.edgeLength},
           {"flipped", p.flippedTriangles},
           {"flipped_before_stiffening", p.flippedBeforeStiffening},
+          {"local_relaxations", p.localRelaxations},
           {"stiffening_iterations", p.stiffeningIterations},
           {"degenerate", p.degenerateTriangles},
           {"singularities", p.singularities.size()},

@@ -10,7 +10,7 @@
 
 namespace hexcover {
 
-/// {"rosy": N, "edge_length": h, "flipped", "flipped_before_stiffening", "stiffening_iterations",
+/// {"rosy": N, "edge_length": h, "flipped", "flipped_before_stiffening", "local_relaxations", "stiffening_iterations",
 ///  "degenerate", "singularities" (count), "singularity_coords": [{"vertex", "index_numerator",
 ///  "coords": [a, b]}], "cut_edges", "cut_length", "integer_variables", "energy",
 ///  "local_energy", "distortion": {"angle_mean_deg", "angle_max_deg", "area_mean_log",

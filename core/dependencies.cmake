@@ -5,8 +5,9 @@
 find_package(embree 3.13 REQUIRED)
 target_link_libraries(hexcover_metrics PUBLIC embree)
 
-# core/param: SuiteSparse CHOLMOD (supernodal, on OpenBLAS) behind Eigen's CholmodSupport.
+# core/common (sparse_cholesky.h, used by field and param): SuiteSparse CHOLMOD (supernodal, on
+# OpenBLAS) behind Eigen's CholmodSupport.
 find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)
 find_library(CHOLMOD_LIBRARY cholmod REQUIRED)
-target_include_directories(hexcover_param PUBLIC ${CHOLMOD_INCLUDE_DIR})
-target_link_libraries(hexcover_param PUBLIC ${CHOLMOD_LIBRARY})
+target_include_directories(hexcover_common PUBLIC ${CHOLMOD_INCLUDE_DIR})
+target_link_libraries(hexcover_common PUBLIC ${CHOLMOD_LIBRARY})

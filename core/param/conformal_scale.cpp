@@ -1,13 +1,12 @@
 #include "core/param/conformal_scale.h"
 
-#include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
 
 #include "core/common/error.h"
+#include "core/common/sparse_cholesky.h"
 #include "core/geometry/frames.h"
-#include "core/param/blas_threads.h"
 
 namespace hexcover {
 namespace {
@@ -82,9 +81,8 @@ std::vector<double> conformalFaceScale(const TriMesh& mesh, const RosyField& fie
       rhs[v] = 0.0;
     }
   laplacian.setFromTriplets(kept.begin(), kept.end());
-  useSingleThreadedBlas();
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver(laplacian);
-  if (solver.info() != Eigen::Success)
+  const SparseCholesky<double> solver(laplacian);
+  if (!solver.ok())
     throw Error(ErrorCode::NumericalFailure, "conformal scale: the Laplacian could not be factorized");
   const Eigen::VectorXd phi = solver.solve(rhs);
 

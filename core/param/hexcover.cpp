@@ -15,7 +15,7 @@
 #include <string>
 
 #include "core/common/error.h"
-#include "core/param/blas_threads.h"
+#include "core/common/blas_threads.h"
 #include "core/param/conformal_scale.h"
 #include "core/param/cut_graph.h"
 #include "core/param/integer_elimination.h"
@@ -362,7 +362,10 @@ LeastSquares buildLeastSquares(const TriMesh& mesh, const CutMesh& cm, const Unk
 // refactorizations with the same pattern (new face weights only change values).
 class SpdSolver {
  public:
-  explicit SpdSolver(LinearSolver kind) : kind_(kind) { useSingleThreadedBlas(); }
+  explicit SpdSolver(LinearSolver kind) : kind_(kind) {
+    useSingleThreadedBlas();
+    cholmod_.cholmod().print = 0;  // failures are reported through info(), never on stdout
+  }
 
   void factorize(const SparseMatrix& a) {
     if (kind_ == LinearSolver::Cholmod) run(cholmod_, a);
@@ -372,7 +375,7 @@ class SpdSolver {
   /// A⁻¹ b for one or several right-hand sides, with the last factorization (b itself when
   /// nothing was factorized: the 0×0 system).
   Eigen::MatrixXd solve(const Eigen::MatrixXd& b) const {
-    if (b.rows() == 0) return b;
+    if (b.rows() == 0 || b.cols() == 0) return b;
     Eigen::MatrixXd x = kind_ == LinearSolver::Cholmod ? Eigen::MatrixXd(cholmod_.solve(b))
                                                        : Eigen::MatrixXd(ldlt_.solve(b));
     if (!x.allFinite())
@@ -707,6 +710,7 @@ void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
               involved.insert(it->second);
       if (involved.size() >= 32) break;
     }
+    if (involved.empty()) return;  // the flipped corners do not depend on an integer unknown
     bool improved = false;
     std::vector<int> columns;
     for (const int i : involved) columns.insert(columns.end(), units[i].begin(), units[i].end());
@@ -744,6 +748,114 @@ void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
     }
     if (!improved) return;
   }
+}
+
+// Local fold-over relaxation: re-solves only the real unknowns of the vertices within `rings`
+// edge rings of a flipped triangle (everything else held), with the faces there stiffened as in
+// the global loop (weight 1 + min(5·relative misfit, 20), doubled at flipped triangles), a few
+// times per region; the region doubles while triangles stay flipped. A small sparse solve per
+// step instead of a refactorization of the whole system. Keeps a step only when it leaves fewer
+// flipped triangles and no more degenerate ones; returns the number of local solves.
+int relaxFoldsLocally(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
+                      const LeastSquares& ls, const std::vector<double>& faceScale, int n,
+                      Eigen::VectorXd& x, SnappedCoordinates& snapped, Orientation& orientation,
+                      std::vector<bool>& flippedFaces) {
+  constexpr int kSolvesPerRegion = 4;
+  int solves = 0;
+  for (int rings = 2; rings <= 16 && orientation.flipped > 0; rings *= 2) {
+    // Region: vertices within `rings` edges of a flipped triangle's corners.
+    std::vector<int> depth(mesh.n_vertices(), -1);
+    std::vector<int> frontier;
+    for (const auto fh : mesh.faces())
+      if (flippedFaces[fh.idx()])
+        for (const auto vh : fh.vertices())
+          if (depth[vh.idx()] < 0) {
+            depth[vh.idx()] = 0;
+            frontier.push_back(vh.idx());
+          }
+    for (int ring = 1; ring <= rings; ++ring) {
+      std::vector<int> next;
+      for (const int v : frontier)
+        for (const auto wh : mesh.vv_range(mesh.vertex_handle(v)))
+          if (depth[wh.idx()] < 0) {
+            depth[wh.idx()] = ring;
+            next.push_back(wh.idx());
+          }
+      frontier = std::move(next);
+    }
+    std::vector<int> localColumn(u.realCount, -1), columns;
+    for (const auto vh : mesh.vertices())
+      if (depth[vh.idx()] >= 0 && u.vertexColumn[vh.idx()] >= 0)
+        for (int j = 0; j < 2; ++j) {
+          localColumn[u.vertexColumn[vh.idx()] + j] = static_cast<int>(columns.size());
+          columns.push_back(u.vertexColumn[vh.idx()] + j);
+        }
+    std::vector<int> faces;  // faces whose rows involve a region column
+    for (const auto fh : mesh.faces()) {
+      bool touches = false;
+      for (const auto vh : fh.vertices()) touches = touches || depth[vh.idx()] >= 0;
+      if (touches && ls.faceArea[fh.idx()] > 0.0) faces.push_back(fh.idx());
+    }
+    if (columns.empty()) continue;
+    std::vector<int> localRow(ls.target.size(), -1);
+    for (std::size_t k = 0; k < faces.size(); ++k)
+      for (int r = 0; r < kRowsPerFace; ++r)
+        localRow[kRowsPerFace * faces[k] + r] = static_cast<int>(kRowsPerFace * k + r);
+    std::vector<Triplet> triplets;
+    for (std::size_t j = 0; j < columns.size(); ++j)
+      for (SparseMatrix::InnerIterator it(ls.gradient, columns[j]); it; ++it)
+        if (localRow[it.row()] >= 0)
+          triplets.emplace_back(localRow[it.row()], static_cast<int>(j), it.value());
+    const int rows = kRowsPerFace * static_cast<int>(faces.size());
+    SparseMatrix local(rows, static_cast<int>(columns.size()));
+    local.setFromTriplets(triplets.begin(), triplets.end());
+    // Stiffening iterates like the global loop (each step from the last iterate, weights
+    // accumulated); the best iterate is kept.
+    std::vector<double> weight(faces.size(), 1.0);
+    Eigen::VectorXd current = x;
+    std::vector<bool> currentFlipped = flippedFaces;
+    for (int step = 0; step < kSolvesPerRegion && orientation.flipped > 0; ++step) {
+      // Residual on the region's rows, and the right-hand side with the region's own columns
+      // taken out: local·y ≈ target − (G x − local·x_C).
+      Eigen::VectorXd xc(columns.size());
+      for (std::size_t j = 0; j < columns.size(); ++j) xc[j] = current[columns[j]];
+      const Eigen::VectorXd full = ls.gradient * current;  // O(nnz), cheaper than a solve
+      Eigen::VectorXd residual(rows), rowWeight(rows);
+      for (std::size_t k = 0; k < faces.size(); ++k) {
+        const int f = faces[k];
+        residual.segment<kRowsPerFace>(kRowsPerFace * k) =
+            full.segment<kRowsPerFace>(kRowsPerFace * f) -
+            ls.target.segment<kRowsPerFace>(kRowsPerFace * f);
+        const double misfit = residual.segment<kEnergyRows>(kRowsPerFace * k).squaredNorm() /
+                              (2.0 * faceScale[f] * faceScale[f]);
+        weight[k] += std::min(5.0 * misfit, 20.0);
+        if (currentFlipped[f]) weight[k] *= 2.0;
+        rowWeight.segment<kRowsPerFace>(kRowsPerFace * k).setConstant(ls.faceArea[f] * weight[k]);
+      }
+      const Eigen::VectorXd rhs = local * xc - residual;
+      const SparseMatrix weighted = rowWeight.asDiagonal() * local;
+      SparseMatrix normal = SparseMatrix(local.transpose()) * weighted;
+      const double regularization = 1e-14 * normal.diagonal().cwiseAbs().maxCoeff();
+      for (int j = 0; j < normal.cols(); ++j) normal.coeffRef(j, j) += regularization;
+      const Eigen::SimplicialLDLT<SparseMatrix> solver(normal);
+      if (solver.info() != Eigen::Success) return solves;
+      const Eigen::VectorXd y = solver.solve(weighted.transpose() * rhs);
+      ++solves;
+      if (!y.allFinite()) return solves;
+      for (std::size_t j = 0; j < columns.size(); ++j) current[columns[j]] = y[j];
+      SnappedCoordinates currentSnap = snapCoordinates(mesh, cm, u, current, n);
+      const Orientation currentOrientation =
+          countOrientation(mesh, cm, currentSnap, &currentFlipped);
+      if (currentOrientation.flipped >= orientation.flipped ||
+          currentOrientation.degenerate > orientation.degenerate)
+        continue;
+      x = current;
+      snapped = std::move(currentSnap);
+      orientation = currentOrientation;
+      flippedFaces = currentFlipped;
+    }
+  }
+  return solves;
 }
 
 double angleAt(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
@@ -969,9 +1081,44 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
   std::vector<bool> flippedFaces;
   Orientation orientation = countOrientation(mesh, cm, snapped, &flippedFaces);
   result.flippedBeforeStiffening = orientation.flipped;
+  // Fold-overs, cheapest remedy first. Local relaxation (before and after a rounding repair) is
+  // kept only when it removes every fold-over; otherwise the global stiffening below starts from
+  // the rounding-repaired plain solution (a partial local change can lead it to a worse optimum).
   if (orientation.flipped > 0) {
-    ScopedTimer timer(result.timings, "rounding repair");
-    repairRounding(mesh, cm, unknowns, system, n, x, snapped, orientation, flippedFaces);
+    struct Iterate {
+      Eigen::VectorXd x;
+      SnappedCoordinates snapped;
+      Orientation orientation;
+      std::vector<bool> flippedFaces;
+    };
+    const auto relax = [&](Iterate& it) {
+      ScopedTimer timer(result.timings, "local relaxation");
+      result.localRelaxations += relaxFoldsLocally(mesh, cm, unknowns, ls, faceScale, n, it.x,
+                                                   it.snapped, it.orientation, it.flippedFaces);
+    };
+    const auto repair = [&](Iterate& it) {
+      ScopedTimer timer(result.timings, "rounding repair");
+      repairRounding(mesh, cm, unknowns, system, n, it.x, it.snapped, it.orientation,
+                     it.flippedFaces);
+    };
+    const Iterate plain{x, snapped, orientation, flippedFaces};
+    Iterate chosen = plain;  // relax, then repair and relax again
+    relax(chosen);
+    if (chosen.orientation.flipped > 0) {
+      repair(chosen);
+      if (chosen.orientation.flipped > 0) relax(chosen);
+    }
+    if (chosen.orientation.flipped > 0) {  // repair, then relax
+      Iterate repaired = plain;
+      repair(repaired);
+      chosen = repaired;
+      if (repaired.orientation.flipped > 0) relax(chosen);
+      if (chosen.orientation.flipped > 0) chosen = std::move(repaired);
+    }
+    x = std::move(chosen.x);
+    snapped = std::move(chosen.snapped);
+    orientation = chosen.orientation;
+    flippedFaces = std::move(chosen.flippedFaces);
   }
   {
     ScopedTimer timer(result.timings, "stiffening");

@@ -62,7 +62,8 @@ struct Parameterization {
   int latticeDescentMoves = 0;  ///< rounding improvements by lattice descent (see hexcover.cpp)
   int flippedBeforeStiffening = 0;  ///< flipped triangles right after the final solve (before
                                     ///< rounding repair and stiffening)
-  int stiffeningIterations = 0;  ///< re-solves spent on removing fold-overs
+  int localRelaxations = 0;      ///< local re-solves around flipped triangles
+  int stiffeningIterations = 0;  ///< global re-solves spent on removing fold-overs
   Timings timings;
 };
 

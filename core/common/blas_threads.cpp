@@ -1,4 +1,4 @@
-#include "core/param/blas_threads.h"
+#include "core/common/blas_threads.h"
 
 // Weak: resolved when OpenBLAS is the loaded BLAS, null otherwise.
 extern "C" void openblas_set_num_threads(int threads) __attribute__((weak));
