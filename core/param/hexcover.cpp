@@ -433,15 +433,22 @@ class EnergySystem {
       solver_.factorize(arr);
       z_ = solver_.solve(z_);
     }
+    responses_.resize(0, 0);  // solved for the previous weights
     if (!integersFree) return;
-    // S and c by blocks of integer columns (bounded memory for large k).
+    // S and c by blocks of integer columns (bounded memory for large k). The solved columns
+    // A_rr⁻¹ A_ri are kept when they fit in kResponseBudget doubles: the rounding repair then
+    // reads its responses instead of solving for them.
     constexpr int kBlock = 64;
+    constexpr double kResponseBudget = 32e6;  // 256 MB
     schur_ = Eigen::MatrixXd(a.bottomRightCorner(k, k));
     c_ = b.tail(k) - ari_.transpose() * z_;
+    const bool keep = static_cast<double>(r) * k <= kResponseBudget;
+    if (keep) responses_.resize(r, k);
     for (int first = 0; first < k; first += kBlock) {
       const int width = std::min(kBlock, k - first);
       const Eigen::MatrixXd y = solver_.solve(Eigen::MatrixXd(ari_.middleCols(first, width)));
       schur_.middleCols(first, width) -= ari_.transpose() * y;
+      if (keep) responses_.middleCols(first, width) = y;
     }
   }
 
@@ -514,21 +521,26 @@ class EnergySystem {
   /// The whole minimizer for given integer unknowns: x_r = A_rr⁻¹ (b_r − A_ri x_i).
   Eigen::VectorXd withReals(const Eigen::VectorXd& integers) const {
     Eigen::VectorXd x(realCount_ + integers.size());
-    x.head(realCount_) = integers.size() > 0
-                             ? Eigen::VectorXd(z_ - solver_.solve(ari_ * integers))
-                             : z_;
+    if (integers.size() == 0) x.head(realCount_) = z_;
+    else if (responses_.cols() == integers.size()) x.head(realCount_) = z_ - responses_ * integers;
+    else x.head(realCount_) = z_ - solver_.solve(ari_ * integers);
     x.tail(integers.size()) = integers;
     return x;
   }
 
   /// Column k: ∂x/∂x_j of the minimizer with every integer unknown fixed, for the integer
   /// column j = columns[k] (counted over all columns): changing x_j by δ moves the minimizer by
-  /// δ times this. One multi-right-hand-side solve.
+  /// δ times this. Read from the kept columns of A_rr⁻¹ A_ri, or one multi-right-hand-side solve.
   Eigen::MatrixXd responses(const std::vector<int>& columns) const {
-    Eigen::MatrixXd rhs(realCount_, columns.size());
-    for (std::size_t k = 0; k < columns.size(); ++k) rhs.col(k) = ari_.col(columns[k] - realCount_);
     Eigen::MatrixXd r = Eigen::MatrixXd::Zero(realCount_ + c_.size(), columns.size());
-    r.topRows(realCount_) = -solver_.solve(rhs);
+    if (responses_.cols() > 0) {
+      for (std::size_t k = 0; k < columns.size(); ++k)
+        r.col(k).head(realCount_) = -responses_.col(columns[k] - realCount_);
+    } else {
+      Eigen::MatrixXd rhs(realCount_, columns.size());
+      for (std::size_t k = 0; k < columns.size(); ++k) rhs.col(k) = ari_.col(columns[k] - realCount_);
+      r.topRows(realCount_) = -solver_.solve(rhs);
+    }
     for (std::size_t k = 0; k < columns.size(); ++k) r(columns[k], k) = 1.0;
     return r;
   }
@@ -553,6 +565,7 @@ class EnergySystem {
   SparseMatrix ari_;       // A_ri
   Eigen::VectorXd z_;      // A_rr⁻¹ b_r
   Eigen::MatrixXd schur_;  // S
+  Eigen::MatrixXd responses_;  // A_rr⁻¹ A_ri for the current weights (empty: not kept)
   Eigen::VectorXd c_;      // c
 };
 
