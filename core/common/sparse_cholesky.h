@@ -24,6 +24,8 @@ class SparseCholesky {
   bool compute(const Matrix& a) {
     rows_ = a.rows();
     ldlt_.reset();
+    cholmod_.reset();
+    if (rows_ == 0) return true;  // nothing to factorize (CHOLMOD cannot take a 0×0 matrix)
     cholmod_ = std::make_unique<Eigen::CholmodSupernodalLLT<Matrix>>();
     cholmod_->cholmod().print = 0;  // failures are reported through info(), never on stdout
     cholmod_->compute(a);
@@ -34,14 +36,15 @@ class SparseCholesky {
   }
 
   bool ok() const {
+    if (rows_ == 0) return true;
     return cholmod_ ? cholmod_->info() == Eigen::Success : ldlt_ && ldlt_->info() == Eigen::Success;
   }
   Eigen::Index rows() const { return rows_; }
 
-  /// A⁻¹ b (one or several columns).
+  /// A⁻¹ b (one or several columns); b itself for the 0×0 matrix.
   template <typename Rhs>
   Eigen::Matrix<Scalar, Eigen::Dynamic, Rhs::ColsAtCompileTime> solve(const Rhs& b) const {
-    if (b.rows() == 0 || b.cols() == 0) return b;
+    if (rows_ == 0 || b.cols() == 0) return b;
     if (cholmod_) return cholmod_->solve(b);
     return ldlt_->solve(b);
   }

@@ -115,8 +115,7 @@ ConnectionCorrector::ConnectionCorrector(const TriMesh& mesh, const FieldGeometr
   for (int r = 0; r < rows; ++r) triplets.emplace_back(r, r, diagonal[r]);
   Eigen::SparseMatrix<double> laplacian(rows, rows);
   laplacian.setFromTriplets(triplets.begin(), triplets.end());
-  solver_.compute(laplacian);
-  if (solver_.info() != Eigen::Success)
+  if (!solver_.compute(laplacian))
     throw Error(ErrorCode::NumericalFailure,
                 "field: the connection system could not be factorized (is the mesh valid?)");
 }
@@ -139,7 +138,7 @@ std::vector<double> ConnectionCorrector::corrections(const std::vector<double>& 
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(rows);
   for (int v = 0; v < static_cast<int>(row_.size()); ++v)
     if (row_[v] >= 0) rhs[row_[v]] = target[v] - current[v];
-  const Eigen::VectorXd lambda = rows > 0 ? Eigen::VectorXd(solver_.solve(rhs)) : rhs;
+  const Eigen::VectorXd lambda = solver_.solve(rhs);
   std::vector<double> c = base.empty() ? std::vector<double>(mesh_.n_edges(), 0.0) : base;
   for (const auto eh : mesh_.edges()) {
     if (!freeEdge_[eh.idx()] || mesh_.is_boundary(eh)) continue;

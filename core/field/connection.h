@@ -12,9 +12,9 @@
 // there). The initial solve constrains every interior vertex through every interior edge; the
 // clustering re-solve constrains the vertices of the region R through the edges inside R.
 
-#include <Eigen/SparseCholesky>
 #include <vector>
 
+#include "core/common/sparse_cholesky.h"
 #include "core/field/singularities.h"
 
 namespace hexcover::field {
@@ -55,7 +55,7 @@ class ConnectionCorrector {
   const FieldGeometry& geometry_;
   std::vector<bool> freeEdge_;
   std::vector<int> row_;  ///< #V row in the system, -1 for unconstrained and pinned vertices
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver_;
+  SparseCholesky<double> solver_;
 };
 
 /// #V: true at the interior vertices (the constraints of the initial solve).

@@ -1,11 +1,11 @@
 #include "core/field/smooth_solve.h"
 
-#include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 
 #include "core/common/error.h"
+#include "core/common/sparse_cholesky.h"
 
 namespace hexcover::field {
 namespace {
@@ -103,8 +103,8 @@ std::vector<Complex> solveSmoothField(const SmoothnessTerms& terms, const Smooth
   }
   Eigen::SparseMatrix<Complex> matrix(m, m);
   matrix.setFromTriplets(triplets.begin(), triplets.end());
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<Complex>> solver(matrix);
-  if (solver.info() != Eigen::Success)
+  const SparseCholesky<Complex> solver(matrix);
+  if (!solver.ok())
     throw Error(ErrorCode::NumericalFailure,
                 "field: the smoothness system could not be factorized");
   Eigen::VectorXcd x = solver.solve(rhs);

@@ -5,8 +5,9 @@
 // over interior edges, with some faces fixed (hard constraints, or the field outside the
 // re-solve region) and soft constraints q_f of weight λ_f. Its minimizer solves the Hermitian
 // positive (semi)definite system (L + Λ) u = Λ q + (terms of the fixed faces), factored with a
-// complex SimplicialLDLT. A connected group of free faces that touches no fixed face and has no
-// soft constraint has only the trivial minimizer u = 0; it gets the smoothest unit field instead:
+// complex sparse Cholesky (core/common/sparse_cholesky.h). A connected group of free faces that
+// touches no fixed face and has no soft constraint has only the trivial minimizer u = 0; it gets
+// the smoothest unit field instead:
 // the eigenvector of the smallest eigenvalue of L by inverse power iteration from a fixed start
 // vector (deterministic).
 

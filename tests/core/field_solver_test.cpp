@@ -139,6 +139,16 @@ TEST(FieldSolver, SliversValenceThreeVerticesAndBoundariesGiveFiniteOutput) {
   EXPECT_EQ(indexSum(field), 0);
 }
 
+// Every vertex on the boundary (a tube one ring high): the connection system has no row. This
+// 0×0 system crashed the CHOLMOD factorization (seen on shared nasty/ files).
+TEST(FieldSolver, MeshWithoutInteriorVerticesGetsABoundaryAlignedField) {
+  const TriMesh mesh = makeTube(1.0, 0.3, 12, 2);
+  for (const auto vh : mesh.vertices()) ASSERT_TRUE(mesh.is_boundary(vh));
+  const RosyField field = computeRosyField(mesh);
+  expectUnitTangentDirections(mesh, field);
+  EXPECT_EQ(indexSum(field), 0);
+}
+
 TEST(FieldSolver, RunsAreBitIdentical) {
   const TriMesh torus = makeTorus(2.0, 0.7, 48, 18);
   FieldOptions options;
