@@ -827,25 +827,28 @@ int relaxFoldsLocally(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
     std::vector<double> weight(faces.size(), 1.0);
     Eigen::VectorXd current = x;
     std::vector<bool> currentFlipped = flippedFaces;
+    // The region's rows split as local·x_C + (the held columns' part), and the right-hand side
+    // of local·y ≈ target − held part is fixed for the region.
+    Eigen::VectorXd xc(columns.size());
+    for (std::size_t j = 0; j < columns.size(); ++j) xc[j] = x[columns[j]];
+    const Eigen::VectorXd full = ls.gradient * x;
+    Eigen::VectorXd rhs(rows);
+    for (std::size_t k = 0; k < faces.size(); ++k)
+      rhs.segment<kRowsPerFace>(kRowsPerFace * k) =
+          ls.target.segment<kRowsPerFace>(kRowsPerFace * faces[k]) -
+          full.segment<kRowsPerFace>(kRowsPerFace * faces[k]);
+    rhs += local * xc;
     for (int step = 0; step < kSolvesPerRegion && orientation.flipped > 0; ++step) {
-      // Residual on the region's rows, and the right-hand side with the region's own columns
-      // taken out: local·y ≈ target − (G x − local·x_C).
-      Eigen::VectorXd xc(columns.size());
-      for (std::size_t j = 0; j < columns.size(); ++j) xc[j] = current[columns[j]];
-      const Eigen::VectorXd full = ls.gradient * current;  // O(nnz), cheaper than a solve
-      Eigen::VectorXd residual(rows), rowWeight(rows);
+      const Eigen::VectorXd residual = local * xc - rhs;
+      Eigen::VectorXd rowWeight(rows);
       for (std::size_t k = 0; k < faces.size(); ++k) {
         const int f = faces[k];
-        residual.segment<kRowsPerFace>(kRowsPerFace * k) =
-            full.segment<kRowsPerFace>(kRowsPerFace * f) -
-            ls.target.segment<kRowsPerFace>(kRowsPerFace * f);
         const double misfit = residual.segment<kEnergyRows>(kRowsPerFace * k).squaredNorm() /
                               (2.0 * faceScale[f] * faceScale[f]);
         weight[k] += std::min(5.0 * misfit, 20.0);
         if (currentFlipped[f]) weight[k] *= 2.0;
         rowWeight.segment<kRowsPerFace>(kRowsPerFace * k).setConstant(ls.faceArea[f] * weight[k]);
       }
-      const Eigen::VectorXd rhs = local * xc - residual;
       const SparseMatrix weighted = rowWeight.asDiagonal() * local;
       SparseMatrix normal = SparseMatrix(local.transpose()) * weighted;
       const double regularization = 1e-14 * normal.diagonal().cwiseAbs().maxCoeff();
@@ -855,6 +858,7 @@ int relaxFoldsLocally(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
       const Eigen::VectorXd y = solver.solve(weighted.transpose() * rhs);
       ++solves;
       if (!y.allFinite()) return solves;
+      xc = y;
       for (std::size_t j = 0; j < columns.size(); ++j) current[columns[j]] = y[j];
       SnappedCoordinates currentSnap = snapCoordinates(mesh, cm, u, current, n);
       const Orientation currentOrientation =
