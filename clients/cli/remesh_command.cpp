@@ -70,6 +70,7 @@ nlohmann::json metricsDocument(const RemeshResult& result) {
                         {"boundary_samples", r.boundarySamples},
                         {"strip_triangles", r.stripTriangles},
                         {"strip_flips", r.stripFlips},
+                        {"boundary_slides", r.boundarySlides},
                         {"flipped_param_triangles", r.flippedParamTriangles},
                         {"uncovered_triangles", r.uncoveredTriangles},
                         {"overlapping_triangles", r.overlappingTriangles},

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace hexcover::extract_detail {
 namespace {
@@ -144,7 +145,7 @@ Eigen::Vector3d BoundaryIndex::pointAt(int i, double s) const {
 }
 
 std::vector<double> sampleBoundaryLoop(const BoundaryIndex& index, int loop, double spacing,
-                                       double sharpAngleDeg) {
+                                       double sharpAngleDeg, std::vector<bool>* corner) {
   const auto& points = index.loop(loop);
   const std::size_t n = points.size();
   const double total = index.loopLength(loop);
@@ -177,6 +178,11 @@ std::vector<double> sampleBoundaryLoop(const BoundaryIndex& index, int loop, dou
     for (double& s : samples) s = std::fmod(s, total);
   }
   std::sort(samples.begin(), samples.end());
+  if (corner) {
+    corner->assign(samples.size(), false);
+    for (std::size_t k = 0; k < samples.size(); ++k)
+      (*corner)[k] = std::find(corners.begin(), corners.end(), samples[k]) != corners.end();
+  }
   return samples;
 }
 
@@ -294,6 +300,16 @@ double minimumAngle(const std::vector<Eigen::Vector3d>& p, const Triangle& t) {
   return smallest;
 }
 
+/// Largest deviation of an angle of t from 60°, radians.
+double angleDeviation(const std::vector<Eigen::Vector3d>& p, const Triangle& t) {
+  double largest = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d u = p[t[(k + 1) % 3]] - p[t[k]], v = p[t[(k + 2) % 3]] - p[t[k]];
+    largest = std::max(largest, std::abs(std::atan2(u.cross(v).norm(), u.dot(v)) - M_PI / 3.0));
+  }
+  return largest;
+}
+
 Eigen::Vector3d areaNormal(const std::vector<Eigen::Vector3d>& p, const Triangle& t) {
   return (p[t[1]] - p[t[0]]).cross(p[t[2]] - p[t[0]]);
 }
@@ -350,6 +366,70 @@ int improveByFlips(const std::vector<Eigen::Vector3d>& positions,
     if (passFlips == 0) break;
   }
   return flips;
+}
+
+int slideBoundarySamples(const BoundaryIndex& index, std::vector<LoopSamples>& samples,
+                         const std::vector<Triangle>& region, std::vector<Eigen::Vector3d>& positions) {
+  constexpr int kCandidates = 16, kPasses = 2;
+  constexpr double kClearance = 0.3;  // least distance to a neighbour, in sample spacings
+  std::unordered_map<int, std::vector<int>> triangles;  // sample vertex -> its region triangles
+  for (const auto& loop : samples)
+    for (const int v : loop.vertex) triangles[v];
+  std::vector<Eigen::Vector3d> normal(region.size());
+  for (std::size_t i = 0; i < region.size(); ++i) {
+    normal[i] = areaNormal(positions, region[i]);
+    for (const int v : region[i])
+      if (const auto it = triangles.find(v); it != triangles.end())
+        it->second.push_back(static_cast<int>(i));
+  }
+  // Over the vertex's triangles: the largest deviation of an angle from 60° and the smallest
+  // angle; nullopt when one turns against its former normal.
+  struct Quality {
+    double deviation = 0.0, smallest = M_PI;
+  };
+  const auto quality = [&](int v) -> std::optional<Quality> {
+    Quality q;
+    for (const int i : triangles.at(v)) {
+      if (!(areaNormal(positions, region[i]).dot(normal[i]) > 0.0)) return std::nullopt;
+      q.deviation = std::max(q.deviation, angleDeviation(positions, region[i]));
+      q.smallest = std::min(q.smallest, minimumAngle(positions, region[i]));
+    }
+    return q;
+  };
+  int moves = 0;
+  for (int pass = 0; pass < kPasses; ++pass)
+    for (auto& loop : samples) {
+      const int count = static_cast<int>(loop.vertex.size());
+      const double length = index.loopLength(loop.loop);
+      if (count < 3) continue;
+      for (int k = 0; k < count; ++k) {
+        if (loop.corner[k]) continue;
+        const int v = loop.vertex[k];
+        // Neighbours' arcs unwrapped around arc[k].
+        double before = loop.arc[(k + count - 1) % count], after = loop.arc[(k + 1) % count];
+        if (before > loop.arc[k]) before -= length;
+        if (after < loop.arc[k]) after += length;
+        const double lower = before + kClearance * loop.spacing;
+        const double upper = after - kClearance * loop.spacing;
+        if (!(lower < upper)) continue;
+        const Eigen::Vector3d original = positions[v];
+        const std::optional<Quality> start = quality(v);
+        if (!start) continue;
+        double bestArc = loop.arc[k], best = start->deviation;
+        for (int c = 0; c <= kCandidates; ++c) {
+          const double s = lower + (upper - lower) * c / kCandidates;
+          const double wrapped = s - length * std::floor(s / length);
+          positions[v] = index.pointAt(loop.loop, wrapped);
+          const std::optional<Quality> q = quality(v);
+          if (q && q->deviation < best - 1e-9)
+            best = q->deviation, bestArc = wrapped;
+        }
+        positions[v] = bestArc == loop.arc[k] ? original : index.pointAt(loop.loop, bestArc);
+        if (bestArc != loop.arc[k]) ++moves;
+        loop.arc[k] = bestArc;
+      }
+    }
+  return moves;
 }
 
 }  // namespace hexcover::extract_detail

@@ -57,8 +57,27 @@ class BoundaryIndex {
 /// `spacing`, always including the points whose polyline turns by more than `sharpAngleDeg`
 /// (sharp corners) unless within half a spacing of the previous corner, at least 3. Ascending in
 /// [0, loopLength).
+/// `corner` (optional): per returned sample, whether it is a kept sharp corner.
 std::vector<double> sampleBoundaryLoop(const BoundaryIndex& index, int loop, double spacing,
-                                       double sharpAngleDeg);
+                                       double sharpAngleDeg, std::vector<bool>* corner = nullptr);
+
+/// The samples of one input loop in loop order, as output vertices: `vertex[k]` sits at arc
+/// length `arc[k]` (ascending in [0, loopLength)); corners stay where they are.
+struct LoopSamples {
+  int loop = -1;
+  double spacing = 0.0;  ///< the spacing they were sampled at
+  std::vector<int> vertex;
+  std::vector<double> arc;
+  std::vector<bool> corner;
+};
+
+/// Slides every sample that is not a corner along its input loop, between its neighbours (kept
+/// 0.3 spacings away, so samples never crowd), to the best of 16 evenly spaced positions: the
+/// one whose triangles in `region` have the smallest largest deviation of an angle from 60°, none
+/// turned against its normal before the slide. Two passes; the output boundary stays on the input boundary. Updates `positions`
+/// and the samples' arcs; returns the number of moves.
+int slideBoundarySamples(const BoundaryIndex& index, std::vector<LoopSamples>& samples,
+                         const std::vector<Triangle>& region, std::vector<Eigen::Vector3d>& positions);
 
 /// Triangulates the strip between an outer loop (samples on the input boundary, the surface on
 /// its left) and an inner front (a boundary loop of the lattice triangles, which lie on its left),

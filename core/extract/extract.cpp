@@ -526,7 +526,7 @@ void stitchFront(const BoundaryIndex& index, const std::vector<int>& inputLoopCo
                  const std::vector<int>& inputs, std::vector<int> front,
                  const std::vector<double>& h, const std::vector<Eigen::Vector3d>& normals,
                  const ExtractOptions& options, Assembly& out, std::vector<Triangle>& added,
-                 ExtractionReport& report) {
+                 std::vector<LoopSamples>& loopSamples, ExtractionReport& report) {
   const std::size_t n = front.size();
   std::vector<double> frontH;
   for (const int v : front) frontH.push_back(h[v]);
@@ -543,13 +543,16 @@ void stitchFront(const BoundaryIndex& index, const std::vector<int>& inputLoopCo
     label[j] = best.loop, arc[j] = best.arc;
   }
   const auto addSamples = [&](int i) {
-    std::vector<double> sampleArc = sampleBoundaryLoop(index, i, spacing, options.sharpBoundaryAngle);
+    std::vector<bool> corner;
+    std::vector<double> sampleArc =
+        sampleBoundaryLoop(index, i, spacing, options.sharpBoundaryAngle, &corner);
     std::vector<int> samples;
     for (const double s : sampleArc) {
       samples.push_back(out.addVertex(index.pointAt(i, s), inputLoopComponent[i]));
       out.onBoundary[samples.back()] = true;
     }
     report.boundarySamples += static_cast<long long>(samples.size());
+    loopSamples.push_back({i, spacing, samples, sampleArc, corner});
     return std::pair{samples, sampleArc};
   };
   if (inputs.size() == 1) {
@@ -670,6 +673,7 @@ void closeBoundaries(const TriMesh& mesh, const std::vector<int>& faceComponent,
 
   const std::vector<Eigen::Vector3d> normals = vertexNormals(out);
   std::vector<Triangle> added;
+  std::vector<LoopSamples> loopSamples;  // the samples of every stitched input loop
   std::vector<int> gaps;
   for (std::size_t l = 0; l < loops.size(); ++l) {
     if (assigned[l].empty()) {
@@ -682,12 +686,16 @@ void closeBoundaries(const TriMesh& mesh, const std::vector<int>& faceComponent,
     }
     const std::size_t before = added.size();
     stitchFront(index, inputLoopComponent, assigned[l], loops[l], h, normals, options, out, added,
-                report);
+                loopSamples, report);
     report.stripTriangles += static_cast<long long>(added.size() - before);
   }
   std::sort(gaps.begin(), gaps.end());
   for (const int l : gaps) fillGap(loops[l], out, added, report);
+  // Samples slide along the input boundary to open up the strip's thin triangles, then flips;
+  // a second slide after the flips.
+  report.boundarySlides += slideBoundarySamples(index, loopSamples, added, out.positions);
   report.stripFlips += improveByFlips(out.positions, out.triangles, added);
+  report.boundarySlides += slideBoundarySamples(index, loopSamples, added, out.positions);
   out.triangles.insert(out.triangles.end(), added.begin(), added.end());
 }
 

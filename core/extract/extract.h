@@ -64,6 +64,7 @@ struct ExtractionReport {
   long long boundarySamples = 0;      ///< vertices placed on the input boundary
   long long stripTriangles = 0;       ///< triangles between the lattice front and the boundary
   long long stripFlips = 0;           ///< edge flips among strip and fill triangles (min angle)
+  long long boundarySlides = 0;       ///< boundary samples slid along the input boundary
   long long flippedParamTriangles = 0;     ///< parameter triangles with negative orientation
   long long degenerateParamTriangles = 0;  ///< parameter triangles with zero area
   long long transitionsCorrected = 0;  ///< edges whose given transition disagreed with the coords

@@ -1,4 +1,5 @@
-// Edge flips among the triangles that boundary stitching adds (core/extract/boundary.h).
+// Edge flips and boundary-sample slides among the triangles that boundary stitching adds
+// (core/extract/boundary.h).
 
 #include <gtest/gtest.h>
 
@@ -53,6 +54,49 @@ TEST(BoundaryFlips, NeverTurnsATriangleOver) {
   const std::vector<Eigen::Vector3d> points = {{0, 0, 0}, {2, 0, 0}, {1, 1, 0}, {2.5, -0.1, 0}};
   std::vector<Triangle> region = {{0, 1, 2}, {1, 0, 3}};
   EXPECT_EQ(improveByFlips(points, {}, region), 0);
+}
+
+}  // namespace
+}  // namespace hexcover::extract_detail
+
+namespace hexcover::extract_detail {
+namespace {
+
+// A unit square boundary loop (four sharp corners) with one sample at arc 0.2 on its first side
+// and a front vertex above the side's middle: sliding centres the sample under the front vertex
+// (right angles at the sample, the smallest deviation from 60° there), keeps it on the boundary
+// and leaves the corners.
+TEST(BoundarySlides, CentreASampleUnderItsFrontVertexAlongTheBoundary) {
+  const std::vector<Eigen::Vector3d> square = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  const BoundaryIndex index({square}, 0.5);
+  std::vector<Eigen::Vector3d> positions = square;
+  positions.push_back({0.2, 0, 0});    // 4: the sample
+  positions.push_back({0.5, 0.4, 0});  // 5: the front vertex
+  const std::vector<Triangle> region = {{0, 4, 5}, {4, 1, 5}};
+  std::vector<LoopSamples> samples = {
+      {0, 1.0, {0, 4, 1, 2, 3}, {0.0, 0.2, 1.0, 2.0, 3.0}, {true, false, true, true, true}}};
+  EXPECT_EQ(slideBoundarySamples(index, samples, region, positions), 1);
+  EXPECT_NEAR(samples[0].arc[1], 0.5, 1e-12);
+  EXPECT_TRUE(positions[4].isApprox(Eigen::Vector3d(0.5, 0, 0)));
+  for (int corner = 0; corner < 4; ++corner) EXPECT_EQ(positions[corner], square[corner]);
+  EXPECT_EQ(slideBoundarySamples(index, samples, region, positions), 0) << "nothing left to gain";
+}
+
+// Samples keep 0.3 spacings from their neighbours: a sample between two that are closer than
+// that on both sides stays where it is, whatever its triangles look like.
+TEST(BoundarySlides, NeverCrowdTheirNeighbours) {
+  const std::vector<Eigen::Vector3d> square = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  const BoundaryIndex index({square}, 0.5);
+  std::vector<Eigen::Vector3d> positions = square;
+  positions.push_back({0.1, 0, 0});  // 4: the sample, 0.1 from both neighbours
+  positions.push_back({0.2, 0, 0});  // 5: a corner-like fixed neighbour
+  positions.push_back({0.9, 0.4, 0});
+  const std::vector<Triangle> region = {{0, 4, 6}, {4, 5, 6}};
+  std::vector<LoopSamples> samples = {{0, 1.0, {0, 4, 5, 1, 2, 3},
+                                       {0.0, 0.1, 0.2, 1.0, 2.0, 3.0},
+                                       {true, false, true, true, true, true}}};
+  EXPECT_EQ(slideBoundarySamples(index, samples, region, positions), 0);
+  EXPECT_EQ(positions[4], Eigen::Vector3d(0.1, 0, 0));
 }
 
 }  // namespace
