@@ -50,7 +50,13 @@ struct Row {
 
 int main(int argc, char** argv) {
   std::vector<std::filesystem::path> files;
-  for (int i = 1; i < argc; ++i) files.emplace_back(argv[i]);
+  for (int i = 1; i < argc; ++i) {
+    if (argv[i][0] == '-') {
+      std::fprintf(stderr, "usage: bench_field [mesh...]   (default: every shared clean/ mesh)\n");
+      return 2;
+    }
+    files.emplace_back(argv[i]);
+  }
   if (files.empty()) {
     const std::filesystem::path dir = std::filesystem::path(HEXCOVER_SHARED_MESHES) / "clean";
     if (!std::filesystem::is_directory(dir)) {

@@ -55,10 +55,14 @@ int main(int argc, char** argv) {
   std::vector<std::filesystem::path> files;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    if (arg == "--runs" && i + 1 < argc)
+    if (arg == "--runs" && i + 1 < argc) {
       runs = std::max(1, std::atoi(argv[++i]));
-    else
+    } else if (arg.starts_with("-")) {
+      std::fprintf(stderr, "usage: bench_mesh [--runs R] [file...]\n");
+      return 2;
+    } else {
       files.emplace_back(arg);
+    }
   }
   if (files.empty()) {
     const std::filesystem::path clean = std::filesystem::path(HEXCOVER_SHARED_MESHES) / "clean";

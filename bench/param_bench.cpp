@@ -128,10 +128,16 @@ Row benchmark(const std::string& name, const TriMesh& mesh, const RosyField& fie
 int main(int argc, char** argv) {
   int runs = 5;
   std::string only;
-  for (int i = 1; i + 1 < argc; i += 2) {
+  for (int i = 1; i < argc; i += 2) {
     const std::string flag = argv[i];
-    if (flag == "--runs") runs = std::max(1, std::stoi(argv[i + 1]));
-    if (flag == "--only") only = argv[i + 1];
+    if (flag == "--runs" && i + 1 < argc) {
+      runs = std::max(1, std::atoi(argv[i + 1]));
+    } else if (flag == "--only" && i + 1 < argc) {
+      only = argv[i + 1];
+    } else {
+      std::fprintf(stderr, "usage: bench_param [--runs R] [--only SUBSTRING]\n");
+      return 2;
+    }
   }
   std::vector<Row> rows;
   const auto wanted = [&](const std::string& name) {
