@@ -3,14 +3,47 @@
 // supernodal LLᵀ on single-threaded OpenBLAS (blas_threads.h), which is 1.5-2x faster than
 // Eigen's up-looking SimplicialLDLT on the meshes' Laplacian-like systems, with SimplicialLDLT as
 // the fallback when CHOLMOD refuses the matrix (semidefinite up to round-off).
+//
+// Families of systems on subsets of one graph (the field's re-solves on regions of the mesh)
+// can share one fill-reducing order: eliminating a subgraph in the order induced by an order of
+// the whole graph fills no more than the whole graph does, and skips the per-system ordering.
+// Such a system numbers its unknowns along the shared order and is factorized with
+// RowOrder::AsGiven.
 
 #include <Eigen/CholmodSupport>
+#include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
 #include <memory>
+#include <utility>
+#include <vector>
 
 #include "core/common/blas_threads.h"
 
 namespace hexcover {
+
+/// The nodes of the graph with the given edges in Eigen's approximate minimum degree order (the
+/// order CHOLMOD's AMD would pick, up to ties): node order[k] is eliminated k-th.
+inline std::vector<int> minimumDegreeOrder(int nodes,
+                                           const std::vector<std::pair<int, int>>& edges) {
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(2 * edges.size() + nodes);
+  for (int i = 0; i < nodes; ++i) triplets.emplace_back(i, i, 1.0);
+  for (const auto& [a, b] : edges) {
+    triplets.emplace_back(a, b, 1.0);
+    triplets.emplace_back(b, a, 1.0);
+  }
+  Eigen::SparseMatrix<double> pattern(nodes, nodes);
+  pattern.setFromTriplets(triplets.begin(), triplets.end());
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> order;
+  Eigen::AMDOrdering<int>()(pattern, order);
+  return {order.indices().data(), order.indices().data() + nodes};
+}
+
+/// Whether a system's rows are to be reordered before the factorization.
+enum class RowOrder {
+  Reorder,  ///< CHOLMOD picks a fill-reducing order (AMD)
+  AsGiven,  ///< the rows are already numbered in a fill-reducing order (see minimumDegreeOrder)
+};
 
 template <typename Scalar>
 class SparseCholesky {
@@ -18,16 +51,23 @@ class SparseCholesky {
   using Matrix = Eigen::SparseMatrix<Scalar>;
 
   SparseCholesky() { useSingleThreadedBlas(); }
-  explicit SparseCholesky(const Matrix& a) : SparseCholesky() { compute(a); }
+  explicit SparseCholesky(const Matrix& a, RowOrder order = RowOrder::Reorder)
+      : SparseCholesky() {
+    compute(a, order);
+  }
 
   /// Factorizes `a` (only its lower triangle is read); false when both factorizations failed.
-  bool compute(const Matrix& a) {
+  bool compute(const Matrix& a, RowOrder order = RowOrder::Reorder) {
     rows_ = a.rows();
     ldlt_.reset();
     cholmod_.reset();
     if (rows_ == 0) return true;  // nothing to factorize (CHOLMOD cannot take a 0×0 matrix)
     cholmod_ = std::make_unique<Eigen::CholmodSupernodalLLT<Matrix>>();
     cholmod_->cholmod().print = 0;  // failures are reported through info(), never on stdout
+    if (order == RowOrder::AsGiven) {
+      cholmod_->cholmod().nmethods = 1;
+      cholmod_->cholmod().method[0].ordering = CHOLMOD_NATURAL;
+    }
     cholmod_->compute(a);
     if (cholmod_->info() == Eigen::Success) return true;
     cholmod_.reset();

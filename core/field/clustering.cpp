@@ -13,21 +13,32 @@ namespace {
 using QueueEntry = std::pair<double, int>;  // (distance, vertex): ties by vertex index
 using MinQueue = std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<>>;
 
-/// Edge lengths of the mesh, #E.
-std::vector<double> edgeLengths(const TriMesh& mesh) {
-  std::vector<double> length(mesh.n_edges());
-  for (const auto eh : mesh.edges()) length[eh.idx()] = mesh.calc_edge_length(eh);
-  return length;
-}
+/// The mesh's vertex graph in compressed rows: the neighbours of v (in the order of its
+/// outgoing halfedges) are target[offset[v] .. offset[v + 1]), at distance length[...].
+struct EdgeGraph {
+  std::vector<int> offset, target;
+  std::vector<double> length;
+
+  explicit EdgeGraph(const TriMesh& mesh) : offset(mesh.n_vertices() + 1, 0) {
+    target.reserve(mesh.n_halfedges());
+    length.reserve(mesh.n_halfedges());
+    for (const auto vh : mesh.vertices()) {
+      for (const auto heh : mesh.voh_range(vh)) {
+        target.push_back(heh.to().idx());
+        length.push_back(mesh.calc_edge_length(heh));
+      }
+      offset[vh.idx() + 1] = static_cast<int>(target.size());
+    }
+  }
+};
 
 /// Single-source Dijkstra stopped at a radius, reusing its arrays between runs.
 class GeodesicBall {
  public:
-  GeodesicBall(const TriMesh& mesh, const std::vector<double>& edgeLength)
-      : mesh_(mesh),
-        edgeLength_(edgeLength),
-        distance_(mesh.n_vertices(), std::numeric_limits<double>::infinity()),
-        previous_(mesh.n_vertices(), -1) {}
+  explicit GeodesicBall(const EdgeGraph& graph)
+      : graph_(graph),
+        distance_(graph.offset.size() - 1, std::numeric_limits<double>::infinity()),
+        previous_(graph.offset.size() - 1, -1) {}
 
   /// Vertices closer than `radius` to `source`, in the order they were settled.
   const std::vector<int>& grow(int source, double radius) {
@@ -46,9 +57,9 @@ class GeodesicBall {
       queue.pop();
       if (d > distance_[v]) continue;
       settled_.push_back(v);
-      for (const auto heh : mesh_.voh_range(mesh_.vertex_handle(v))) {
-        const int w = heh.to().idx();
-        const double dw = d + edgeLength_[heh.edge().idx()];
+      for (int k = graph_.offset[v]; k < graph_.offset[v + 1]; ++k) {
+        const int w = graph_.target[k];
+        const double dw = d + graph_.length[k];
         if (dw < distance_[w] && dw < radius) {
           if (distance_[w] == std::numeric_limits<double>::infinity()) touched_.push_back(w);
           distance_[w] = dw;
@@ -71,8 +82,7 @@ class GeodesicBall {
   }
 
  private:
-  const TriMesh& mesh_;
-  const std::vector<double>& edgeLength_;
+  const EdgeGraph& graph_;
   std::vector<double> distance_;
   std::vector<int> previous_;
   std::vector<int> settled_, touched_;
@@ -82,7 +92,7 @@ class GeodesicBall {
 
 std::vector<double> edgeGraphDistances(const TriMesh& mesh, const std::vector<int>& sources,
                                        double limit) {
-  const auto length = edgeLengths(mesh);
+  const EdgeGraph graph(mesh);
   std::vector<double> distance(mesh.n_vertices(), std::numeric_limits<double>::infinity());
   MinQueue queue;
   for (const int s : sources) {
@@ -93,9 +103,9 @@ std::vector<double> edgeGraphDistances(const TriMesh& mesh, const std::vector<in
     const auto [d, v] = queue.top();
     queue.pop();
     if (d > distance[v]) continue;
-    for (const auto heh : mesh.voh_range(mesh.vertex_handle(v))) {
-      const int w = heh.to().idx();
-      const double dw = d + length[heh.edge().idx()];
+    for (int k = graph.offset[v]; k < graph.offset[v + 1]; ++k) {
+      const int w = graph.target[k];
+      const double dw = d + graph.length[k];
       if (dw < distance[w] && dw < limit) {
         distance[w] = dw;
         queue.emplace(dw, w);
@@ -108,8 +118,8 @@ std::vector<double> edgeGraphDistances(const TriMesh& mesh, const std::vector<in
 ClusteringResult clusterSingularities(const TriMesh& mesh, const std::vector<ClusterNode>& initial,
                                       const std::vector<double>& gaussDensity, double dSing,
                                       int maxIndex, const std::vector<bool>& settled) {
-  const auto length = edgeLengths(mesh);
-  GeodesicBall ball(mesh, length);
+  const EdgeGraph graph(mesh);
+  GeodesicBall ball(graph);
   std::vector<ClusterNode> nodes = initial;
   std::vector<bool> alive(nodes.size(), true);
   std::vector<std::vector<int>> nodesAt(mesh.n_vertices());

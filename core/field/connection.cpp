@@ -47,6 +47,13 @@ int filterSteps(const TriMesh& mesh, double radius) {
   return static_cast<int>(std::min(400.0, std::ceil(2.0 * ratio * ratio)));
 }
 
+std::vector<int> vertexGraphOrder(const TriMesh& mesh) {
+  std::vector<std::pair<int, int>> edges;
+  edges.reserve(mesh.n_edges());
+  for (const auto eh : mesh.edges()) edges.emplace_back(eh.v0().idx(), eh.v1().idx());
+  return minimumDegreeOrder(static_cast<int>(mesh.n_vertices()), edges);
+}
+
 std::vector<bool> interiorVertices(const TriMesh& mesh) {
   std::vector<bool> interior(mesh.n_vertices(), false);
   for (const auto vh : mesh.vertices())
@@ -62,7 +69,8 @@ std::vector<bool> interiorEdges(const TriMesh& mesh) {
 
 ConnectionCorrector::ConnectionCorrector(const TriMesh& mesh, const FieldGeometry& geometry,
                                          const std::vector<bool>& constrained,
-                                         const std::vector<bool>& freeEdges)
+                                         const std::vector<bool>& freeEdges,
+                                         const std::vector<int>& vertexOrder)
     : mesh_(mesh), geometry_(geometry), freeEdge_(freeEdges), row_(mesh.n_vertices(), -1) {
   const int nv = static_cast<int>(mesh.n_vertices());
   const auto isConstrained = [&](int v) {
@@ -91,12 +99,14 @@ ConnectionCorrector::ConnectionCorrector(const TriMesh& mesh, const FieldGeometr
   for (int v = 0; v < nv; ++v)
     if (isConstrained(v) && anchored[v]) groupAnchored[root(v)] = true;
   int rows = 0;
-  for (int v = 0; v < nv; ++v) {
+  std::vector<int> sequence = vertexOrder;  // rows are numbered in this order
+  if (sequence.empty()) {
+    sequence.resize(nv);
+    std::iota(sequence.begin(), sequence.end(), 0);
+  }
+  for (const int v : sequence) {
     if (!isConstrained(v)) continue;
-    if (!groupAnchored[root(v)]) {  // the lowest vertex of the group (its root) is pinned
-      groupAnchored[root(v)] = true;
-      continue;
-    }
+    if (!groupAnchored[root(v)] && v == root(v)) continue;  // a floating group pins its lowest
     row_[v] = rows++;
   }
   std::vector<Eigen::Triplet<double>> triplets;
@@ -115,7 +125,7 @@ ConnectionCorrector::ConnectionCorrector(const TriMesh& mesh, const FieldGeometr
   for (int r = 0; r < rows; ++r) triplets.emplace_back(r, r, diagonal[r]);
   Eigen::SparseMatrix<double> laplacian(rows, rows);
   laplacian.setFromTriplets(triplets.begin(), triplets.end());
-  if (!solver_.compute(laplacian))
+  if (!solver_.compute(laplacian, vertexOrder.empty() ? RowOrder::Reorder : RowOrder::AsGiven))
     throw Error(ErrorCode::NumericalFailure,
                 "field: the connection system could not be factorized (is the mesh valid?)");
 }

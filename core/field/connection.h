@@ -38,8 +38,11 @@ class ConnectionCorrector {
   /// constrained vertices (through free edges) without a free edge to an unconstrained vertex
   /// pins its lowest vertex: its row is implied by the others when Σ_v (K̄_v − holonomy_v) = 0
   /// over the group (Poincaré–Hopf for the group), and absorbs the mismatch otherwise.
+  /// `vertexOrder` (#V, optional): the vertices in a fill-reducing elimination order of the
+  /// mesh's vertex graph (vertexGraphOrder), shared by several correctors.
   ConnectionCorrector(const TriMesh& mesh, const FieldGeometry& geometry,
-                      const std::vector<bool>& constrained, const std::vector<bool>& freeEdges);
+                      const std::vector<bool>& constrained, const std::vector<bool>& freeEdges,
+                      const std::vector<int>& vertexOrder = {});
 
   /// #E corrections c = base + Δ, with Δ supported on the free edges and the smallest that
   /// makes the holonomy of ρ + c at every constrained vertex equal to target[v] (#V). `base` is
@@ -57,6 +60,10 @@ class ConnectionCorrector {
   std::vector<int> row_;  ///< #V row in the system, -1 for unconstrained and pinned vertices
   SparseCholesky<double> solver_;
 };
+
+/// The vertices in the minimum-degree elimination order of the mesh's vertex graph (see
+/// sparse_cholesky.h).
+std::vector<int> vertexGraphOrder(const TriMesh& mesh);
 
 /// #V: true at the interior vertices (the constraints of the initial solve).
 std::vector<bool> interiorVertices(const TriMesh& mesh);

@@ -102,12 +102,16 @@ void fixBoundaryFaces(const TriMesh& mesh, const field::FieldGeometry& geometry,
 /// there); on the edges between free faces, the smallest change of `corrections` that gives
 /// those holonomies. The boundary data is then compatible and the solve returns the parallel
 /// field, whose singularities are the targets. Directional constraints are off. Updates
-/// `corrections` (#E) and returns the new field (#F, unit outside R).
+/// `corrections` (#E) and returns the new field (#F, unit outside R). `changed` (#F) marks the
+/// faces whose field changed since `corrections` last followed it (only their edges' turns are
+/// recomputed); on return it marks the faces of R.
 std::vector<Complex> resolveRegion(const TriMesh& mesh, const field::FieldGeometry& geometry,
+                                   const field::SmoothnessTerms& terms,
+                                   const std::vector<int>& vertexOrder,
                                    const std::vector<bool>& solvable,
                                    const field::ClusteringResult& clusters, double dSing, int n,
                                    const std::vector<Complex>& u,
-                                   std::vector<double>& corrections) {
+                                   std::vector<double>& corrections, std::vector<bool>& changed) {
   const int nf = static_cast<int>(mesh.n_faces());
   const std::vector<double> distance =
       field::edgeGraphDistances(mesh, clusters.collapsedVertices, dSing);
@@ -130,17 +134,17 @@ std::vector<Complex> resolveRegion(const TriMesh& mesh, const field::FieldGeomet
     if (mesh.is_boundary(eh)) continue;
     const int f0 = eh.h0().face().idx(), f1 = eh.h1().face().idx();
     freeEdges[eh.idx()] = region.free[f0] && region.free[f1];
-    if (!freeEdges[eh.idx()]) {  // N δ_e = Arg(u_f1 / (e^{iNρ} u_f0))
+    if (!freeEdges[eh.idx()] && (changed[f0] || changed[f1])) {  // N δ_e = Arg(u_f1/(e^{iNρ} u_f0))
       const Complex rotation = std::polar(1.0, n * geometry.transport[eh.idx()]);
       corrections[eh.idx()] = std::arg(region.value[f1] / (rotation * region.value[f0])) / n;
     }
   }
   std::vector<double> target(mesh.n_vertices(), 0.0);
   for (const auto& node : clusters.nodes) target[node.vertex] += 2.0 * M_PI * node.index / n;
-  corrections = field::ConnectionCorrector(mesh, geometry, touchesRegion, freeEdges)
+  corrections = field::ConnectionCorrector(mesh, geometry, touchesRegion, freeEdges, vertexOrder)
                     .corrections(target, corrections);
-  return field::solveSmoothField(field::smoothnessTerms(mesh, geometry.transport, corrections, n),
-                                 region);
+  changed = region.free;
+  return field::solveSmoothField(terms, geometry.transport, corrections, n, region);
 }
 
 }  // namespace
@@ -226,9 +230,12 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
   });
 
   step(0.2);
+  // One elimination order per graph (vertices, faces) for every solve of the run.
+  const std::vector<int> vertexOrder =
+      timed(timings, "connection", [&] { return field::vertexGraphOrder(mesh); });
   const field::ConnectionCorrector corrector = timed(timings, "connection", [&] {
     return field::ConnectionCorrector(mesh, geometry, field::interiorVertices(mesh),
-                                      field::interiorEdges(mesh));
+                                      field::interiorEdges(mesh), vertexOrder);
   });
   const std::vector<double> filtered = timed(timings, "filter_gauss_curvature", [&] {
     return field::filterGaussCurvature(
@@ -237,9 +244,10 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
 
   step(0.3);
   const std::vector<double> initialCorrections = corrector.corrections(filtered);
+  const field::SmoothnessTerms terms =
+      timed(timings, "initial_solve", [&] { return field::smoothnessTerms(mesh); });
   const std::vector<Complex> initial = timed(timings, "initial_solve", [&] {
-    const auto terms = field::smoothnessTerms(mesh, geometry.transport, initialCorrections, n);
-    return field::solveSmoothField(terms, input);
+    return field::solveSmoothField(terms, geometry.transport, initialCorrections, n, input);
   });
   RosyField initialField = timed(timings, "initial_singularities", [&] {
     return field::rosyFieldFromAngles(mesh, geometry, anglesOf(initial, n), n);
@@ -259,6 +267,7 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
   RosyField result = std::move(initialField);
   std::vector<Complex> u = initial;
   std::vector<double> corrections = initialCorrections;
+  std::vector<bool> changed(nf, true);  // faces whose field differs from what `corrections` follows
   std::vector<int> previousIndex;  // #V: the nodes left by the last clustering (0 elsewhere)
   int previousCollapses = std::numeric_limits<int>::max();
   for (int round = 0; options.clusterSingularities && round < kClusteringRounds; ++round) {
@@ -282,7 +291,8 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
     previousIndex.assign(mesh.n_vertices(), 0);
     for (const auto& node : clusters.nodes) previousIndex[node.vertex] = node.index;
     u = timed(timings, "cluster_solve", [&] {
-      return resolveRegion(mesh, geometry, input.free, clusters, dSing, n, u, corrections);
+      return resolveRegion(mesh, geometry, terms, vertexOrder, input.free, clusters, dSing, n, u, corrections,
+                           changed);
     });
     result = timed(timings, "cluster_singularities",
                    [&] { return field::rosyFieldFromAngles(mesh, geometry, anglesOf(u, n), n); });

@@ -20,8 +20,7 @@ constexpr double kPowerTolerance = 1e-6;  ///< change of the unit iterate that e
 
 }  // namespace
 
-SmoothnessTerms smoothnessTerms(const TriMesh& mesh, const std::vector<double>& transport,
-                                const std::vector<double>& corrections, int n) {
+SmoothnessTerms smoothnessTerms(const TriMesh& mesh) {
   std::vector<Eigen::Vector3d> centroid(mesh.n_faces());
   for (const auto fh : mesh.faces()) {
     Eigen::Vector3d c = Eigen::Vector3d::Zero();
@@ -35,19 +34,25 @@ SmoothnessTerms smoothnessTerms(const TriMesh& mesh, const std::vector<double>& 
     const double length = mesh.calc_edge_length(eh);
     const double dual = (centroid[f0] - centroid[f1]).norm();
     const double w = dual > 0.0 ? length / dual : 1e3;
+    terms.edge.push_back(eh.idx());
     terms.face0.push_back(f0);
     terms.face1.push_back(f1);
     terms.weight.push_back(std::clamp(std::isfinite(w) ? w : 1e3, 1e-3, 1e3));
-    terms.rotation.push_back(std::polar(1.0, n * (transport[eh.idx()] + corrections[eh.idx()])));
   }
+  std::vector<std::pair<int, int>> dualEdges(terms.face0.size());
+  for (std::size_t t = 0; t < dualEdges.size(); ++t) dualEdges[t] = {terms.face0[t], terms.face1[t]};
+  terms.faceOrder = minimumDegreeOrder(static_cast<int>(mesh.n_faces()), dualEdges);
   return terms;
 }
 
-std::vector<Complex> solveSmoothField(const SmoothnessTerms& terms, const SmoothSolveInput& input) {
+std::vector<Complex> solveSmoothField(const SmoothnessTerms& terms,
+                                      const std::vector<double>& transport,
+                                      const std::vector<double>& corrections, int n,
+                                      const SmoothSolveInput& input) {
   const int nf = static_cast<int>(input.free.size());
   std::vector<int> unknown(nf, -1);
   int m = 0;
-  for (int f = 0; f < nf; ++f)
+  for (const int f : terms.faceOrder)  // numbered in elimination order
     if (input.free[f]) unknown[f] = m++;
   std::vector<Complex> u = input.value;
   u.resize(nf);
@@ -66,8 +71,10 @@ std::vector<Complex> solveSmoothField(const SmoothnessTerms& terms, const Smooth
   for (std::size_t t = 0; t < terms.weight.size(); ++t) {
     const int f0 = terms.face0[t], f1 = terms.face1[t];
     const int i0 = unknown[f0], i1 = unknown[f1];
+    if (i0 < 0 && i1 < 0) continue;
     const double w = terms.weight[t];
-    const Complex r = terms.rotation[t];
+    const int e = terms.edge[t];
+    const Complex r = std::polar(1.0, n * (transport[e] + corrections[e]));
     if (i0 >= 0) diagonal[i0] += w;
     if (i1 >= 0) diagonal[i1] += w;
     if (i0 >= 0 && i1 >= 0) {  // ∂E/∂ū1 = w (u1 − r u0), ∂E/∂ū0 = w (u0 − r̄ u1)
@@ -103,7 +110,7 @@ std::vector<Complex> solveSmoothField(const SmoothnessTerms& terms, const Smooth
   }
   Eigen::SparseMatrix<Complex> matrix(m, m);
   matrix.setFromTriplets(triplets.begin(), triplets.end());
-  const SparseCholesky<Complex> solver(matrix);
+  const SparseCholesky<Complex> solver(matrix, RowOrder::AsGiven);
   if (!solver.ok())
     throw Error(ErrorCode::NumericalFailure,
                 "field: the smoothness system could not be factorized");

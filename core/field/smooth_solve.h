@@ -20,16 +20,16 @@ namespace hexcover::field {
 
 using Complex = std::complex<double>;
 
-/// The energy's terms, built once per mesh and transport.
+/// The energy's geometric terms, built once per mesh.
 struct SmoothnessTerms {
-  std::vector<int> face0, face1;  ///< per interior edge: f0 = face(h0), f1 = face(h1)
+  std::vector<int> edge;          ///< per interior edge: its mesh edge index e
+  std::vector<int> face0, face1;  ///< f0 = face(h0), f1 = face(h1)
   std::vector<double> weight;     ///< w_e = |e| / |c_f0 − c_f1| (clamped to [1e-3, 1e3])
-  std::vector<Complex> rotation;  ///< r_e = e^{iN(ρ_e + c_e)}
+  std::vector<int> faceOrder;     ///< #F faces in the dual graph's minimum-degree order
 };
 
-/// Terms for the interior edges of `mesh` with transport angles ρ + c (#E each).
-SmoothnessTerms smoothnessTerms(const TriMesh& mesh, const std::vector<double>& transport,
-                                const std::vector<double>& corrections, int n);
+/// Terms for the interior edges of `mesh`.
+SmoothnessTerms smoothnessTerms(const TriMesh& mesh);
 
 struct SmoothSolveInput {
   std::vector<bool> free;           ///< #F: unknown (true) or fixed to `value` (false)
@@ -38,8 +38,12 @@ struct SmoothSolveInput {
   std::vector<Complex> softTarget;  ///< #F q_f (used where λ_f > 0)
 };
 
-/// Minimizer u (#F; fixed faces keep their values). Throws Error(NumericalFailure) when the
-/// factorization fails.
-std::vector<Complex> solveSmoothField(const SmoothnessTerms& terms, const SmoothSolveInput& input);
+/// Minimizer u (#F; fixed faces keep their values) for the transport angles ρ + c (#E each) and
+/// symmetry order n; r_e is evaluated only on the edges at a free face. Throws
+/// Error(NumericalFailure) when the factorization fails.
+std::vector<Complex> solveSmoothField(const SmoothnessTerms& terms,
+                                      const std::vector<double>& transport,
+                                      const std::vector<double>& corrections, int n,
+                                      const SmoothSolveInput& input);
 
 }  // namespace hexcover::field
