@@ -358,13 +358,32 @@ LeastSquares buildLeastSquares(const TriMesh& mesh, const CutMesh& cm, const Unk
   return ls;
 }
 
+// CHOLMOD's supernodal factorization with access to its factor, for cholmod_solve2.
+class CholmodFactorization : public Eigen::CholmodSupernodalLLT<SparseMatrix> {
+ public:
+  cholmod_factor* factor() const { return m_cholmodFactor; }
+};
+
 // A sparse symmetric positive definite factorization that keeps its symbolic analysis across
-// refactorizations with the same pattern (new face weights only change values).
+// refactorizations with the same pattern (new face weights only change values). Solves with
+// CHOLMOD reuse their dense workspaces from call to call (cholmod_solve2): the blocks of the
+// Schur complement are hundreds of MB on million-face meshes, and fresh pages for each one cost
+// more than the solve.
 class SpdSolver {
  public:
   explicit SpdSolver(LinearSolver kind) : kind_(kind) {
     useSingleThreadedBlas();
     cholmod_.cholmod().print = 0;  // failures are reported through info(), never on stdout
+  }
+  SpdSolver(const SpdSolver&) = delete;
+  SpdSolver& operator=(const SpdSolver&) = delete;
+  ~SpdSolver() { releaseWorkspace(); }
+
+  /// Frees the solve workspaces (the next solve allocates them again).
+  void releaseWorkspace() {
+    for (cholmod_dense** workspace : {&x_, &y_, &e_})
+      if (*workspace) cholmod_free_dense(workspace, &cholmod_.cholmod());
+    ldltResult_.resize(0, 0);
   }
 
   void factorize(const SparseMatrix& a) {
@@ -374,13 +393,26 @@ class SpdSolver {
 
   /// A⁻¹ b for one or several right-hand sides, with the last factorization (b itself when
   /// nothing was factorized: the 0×0 system).
-  Eigen::MatrixXd solve(const Eigen::MatrixXd& b) const {
-    if (b.rows() == 0 || b.cols() == 0) return b;
-    Eigen::MatrixXd x = kind_ == LinearSolver::Cholmod ? Eigen::MatrixXd(cholmod_.solve(b))
-                                                       : Eigen::MatrixXd(ldlt_.solve(b));
-    if (!x.allFinite())
+  Eigen::MatrixXd solve(Eigen::MatrixXd b) const { return solveInWorkspace(b); }
+
+  /// The same, as a view of the solver's workspace (valid until the next solve); b is unchanged.
+  Eigen::Map<const Eigen::MatrixXd> solveInWorkspace(Eigen::MatrixXd& b) const {
+    if (b.rows() == 0 || b.cols() == 0) return {b.data(), b.rows(), b.cols()};
+    const double* x = nullptr;
+    if (kind_ == LinearSolver::Cholmod) {
+      cholmod_dense view = Eigen::viewAsCholmod(b);
+      if (!cholmod_solve2(CHOLMOD_A, cholmod_.factor(), &view, nullptr, &x_, nullptr, &y_, &e_,
+                          &cholmod_.cholmod()))
+        throw Error(ErrorCode::NumericalFailure, "the parameterization solve failed (out of memory?)");
+      x = static_cast<const double*>(x_->x);
+    } else {
+      ldltResult_ = ldlt_.solve(b);
+      x = ldltResult_.data();
+    }
+    const Eigen::Map<const Eigen::MatrixXd> result(x, b.rows(), b.cols());
+    if (!result.allFinite())
       throw Error(ErrorCode::NumericalFailure, "the parameterization solve produced non-finite values");
-    return x;
+    return result;
   }
 
  private:
@@ -399,7 +431,9 @@ class SpdSolver {
   LinearSolver kind_;
   bool analyzed_ = false;
   Eigen::SimplicialLDLT<SparseMatrix> ldlt_;
-  Eigen::CholmodSupernodalLLT<SparseMatrix> cholmod_;
+  mutable CholmodFactorization cholmod_;
+  mutable cholmod_dense *x_ = nullptr, *y_ = nullptr, *e_ = nullptr;  ///< cholmod_solve2 workspaces
+  mutable Eigen::MatrixXd ldltResult_;
 };
 
 // The normal equations AᵀWA x = AᵀW f of the least squares with per-face weights, split into
@@ -438,7 +472,11 @@ class EnergySystem {
     // S and c by blocks of integer columns (bounded memory for large k). The solved columns
     // A_rr⁻¹ A_ri are kept when they fit in kResponseBudget doubles: the rounding repair then
     // reads its responses instead of solving for them.
-    constexpr int kBlock = 64;
+    // Blocks of at most 64 columns and kBlockBudget doubles: wider blocks solve faster per
+    // column, but CHOLMOD holds three copies of one.
+    constexpr double kBlockBudget = 16e6;  // 128 MB
+    const int kBlock = static_cast<int>(std::clamp(kBlockBudget / std::max(r, 1), 1.0, 64.0));
+    Eigen::MatrixXd block;
     constexpr double kResponseBudget = 32e6;  // 256 MB
     schur_ = Eigen::MatrixXd(a.bottomRightCorner(k, k));
     c_ = b.tail(k) - ari_.transpose() * z_;
@@ -446,10 +484,12 @@ class EnergySystem {
     if (keep) responses_.resize(r, k);
     for (int first = 0; first < k; first += kBlock) {
       const int width = std::min(kBlock, k - first);
-      const Eigen::MatrixXd y = solver_.solve(Eigen::MatrixXd(ari_.middleCols(first, width)));
+      block = ari_.middleCols(first, width);
+      const auto y = solver_.solveInWorkspace(block);
       schur_.middleCols(first, width) -= ari_.transpose() * y;
       if (keep) responses_.middleCols(first, width) = y;
     }
+    solver_.releaseWorkspace();
   }
 
   /// Integer unknowns (#i) of the minimizer with x_i[j] = values[j] where fixed[j] (integer
