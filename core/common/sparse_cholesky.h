@@ -51,8 +51,7 @@ class SparseCholesky {
   using Matrix = Eigen::SparseMatrix<Scalar>;
 
   SparseCholesky() { useSingleThreadedBlas(); }
-  explicit SparseCholesky(const Matrix& a, RowOrder order = RowOrder::Reorder)
-      : SparseCholesky() {
+  explicit SparseCholesky(const Matrix& a, RowOrder order = RowOrder::Reorder) : SparseCholesky() {
     compute(a, order);
   }
 

@@ -13,32 +13,13 @@ namespace {
 using QueueEntry = std::pair<double, int>;  // (distance, vertex): ties by vertex index
 using MinQueue = std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<>>;
 
-/// The mesh's vertex graph in compressed rows: the neighbours of v (in the order of its
-/// outgoing halfedges) are target[offset[v] .. offset[v + 1]), at distance length[...].
-struct EdgeGraph {
-  std::vector<int> offset, target;
-  std::vector<double> length;
-
-  explicit EdgeGraph(const TriMesh& mesh) : offset(mesh.n_vertices() + 1, 0) {
-    target.reserve(mesh.n_halfedges());
-    length.reserve(mesh.n_halfedges());
-    for (const auto vh : mesh.vertices()) {
-      for (const auto heh : mesh.voh_range(vh)) {
-        target.push_back(heh.to().idx());
-        length.push_back(mesh.calc_edge_length(heh));
-      }
-      offset[vh.idx() + 1] = static_cast<int>(target.size());
-    }
-  }
-};
-
 /// Single-source Dijkstra stopped at a radius, reusing its arrays between runs.
 class GeodesicBall {
  public:
   explicit GeodesicBall(const EdgeGraph& graph)
       : graph_(graph),
-        distance_(graph.offset.size() - 1, std::numeric_limits<double>::infinity()),
-        previous_(graph.offset.size() - 1, -1) {}
+        distance_(graph.vertices(), std::numeric_limits<double>::infinity()),
+        previous_(graph.vertices(), -1) {}
 
   /// Vertices closer than `radius` to `source`, in the order they were settled.
   const std::vector<int>& grow(int source, double radius) {
@@ -90,10 +71,21 @@ class GeodesicBall {
 
 }  // namespace
 
-std::vector<double> edgeGraphDistances(const TriMesh& mesh, const std::vector<int>& sources,
+EdgeGraph::EdgeGraph(const TriMesh& mesh) : offset(mesh.n_vertices() + 1, 0) {
+  target.reserve(mesh.n_halfedges());
+  length.reserve(mesh.n_halfedges());
+  for (const auto vh : mesh.vertices()) {
+    for (const auto heh : mesh.voh_range(vh)) {
+      target.push_back(heh.to().idx());
+      length.push_back(mesh.calc_edge_length(heh));
+    }
+    offset[vh.idx() + 1] = static_cast<int>(target.size());
+  }
+}
+
+std::vector<double> edgeGraphDistances(const EdgeGraph& graph, const std::vector<int>& sources,
                                        double limit) {
-  const EdgeGraph graph(mesh);
-  std::vector<double> distance(mesh.n_vertices(), std::numeric_limits<double>::infinity());
+  std::vector<double> distance(graph.vertices(), std::numeric_limits<double>::infinity());
   MinQueue queue;
   for (const int s : sources) {
     distance[s] = 0.0;
@@ -115,10 +107,10 @@ std::vector<double> edgeGraphDistances(const TriMesh& mesh, const std::vector<in
   return distance;
 }
 
-ClusteringResult clusterSingularities(const TriMesh& mesh, const std::vector<ClusterNode>& initial,
+ClusteringResult clusterSingularities(const TriMesh& mesh, const EdgeGraph& graph,
+                                      const std::vector<ClusterNode>& initial,
                                       const std::vector<double>& gaussDensity, double dSing,
                                       int maxIndex, const std::vector<bool>& settled) {
-  const EdgeGraph graph(mesh);
   GeodesicBall ball(graph);
   std::vector<ClusterNode> nodes = initial;
   std::vector<bool> alive(nodes.size(), true);

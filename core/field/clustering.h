@@ -10,9 +10,20 @@
 
 namespace hexcover::field {
 
+/// The mesh's vertex graph in compressed rows, built once per run: the neighbours of v (in the
+/// order of its outgoing halfedges) are target[offset[v] .. offset[v + 1]), at distance
+/// length[...].
+struct EdgeGraph {
+  std::vector<int> offset, target;
+  std::vector<double> length;
+
+  explicit EdgeGraph(const TriMesh& mesh);
+  int vertices() const { return static_cast<int>(offset.size()) - 1; }
+};
+
 /// Multi-source Dijkstra along edges from `sources` (vertex indices), stopped at `limit`:
 /// #V distances, +∞ for vertices at `limit` or farther.
-std::vector<double> edgeGraphDistances(const TriMesh& mesh, const std::vector<int>& sources,
+std::vector<double> edgeGraphDistances(const EdgeGraph& graph, const std::vector<int>& sources,
                                        double limit = std::numeric_limits<double>::infinity());
 
 struct ClusterNode {
@@ -40,7 +51,8 @@ struct ClusteringResult {
 /// `settled` (empty or one flag per node): nodes known to have no collapsible partner among the
 /// other settled nodes (they were left apart by an earlier clustering); the search for close
 /// pairs then starts only from the others.
-ClusteringResult clusterSingularities(const TriMesh& mesh, const std::vector<ClusterNode>& nodes,
+ClusteringResult clusterSingularities(const TriMesh& mesh, const EdgeGraph& graph,
+                                      const std::vector<ClusterNode>& nodes,
                                       const std::vector<double>& gaussDensity, double dSing,
                                       int maxIndex, const std::vector<bool>& settled = {});
 

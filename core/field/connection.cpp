@@ -16,7 +16,8 @@ std::vector<double> filterGaussCurvature(const TriMesh& mesh, const FieldGeometr
   std::vector<std::pair<int, int>> links;  // edges between interior vertices
   links.reserve(mesh.n_edges());
   for (const auto vh : mesh.vertices())
-    if (!mesh.is_boundary(vh) && !mesh.is_isolated(vh)) k[vh.idx()] = geometry.angleDefect[vh.idx()];
+    if (!mesh.is_boundary(vh) && !mesh.is_isolated(vh))
+      k[vh.idx()] = geometry.angleDefect[vh.idx()];
   for (const auto eh : mesh.edges()) {
     if (mesh.is_boundary(eh.v0()) || mesh.is_boundary(eh.v1())) continue;
     links.emplace_back(eh.v0().idx(), eh.v1().idx());

@@ -105,16 +105,14 @@ void fixBoundaryFaces(const TriMesh& mesh, const field::FieldGeometry& geometry,
 /// `corrections` (#E) and returns the new field (#F, unit outside R). `changed` (#F) marks the
 /// faces whose field changed since `corrections` last followed it (only their edges' turns are
 /// recomputed); on return it marks the faces of R.
-std::vector<Complex> resolveRegion(const TriMesh& mesh, const field::FieldGeometry& geometry,
-                                   const field::SmoothnessTerms& terms,
-                                   const std::vector<int>& vertexOrder,
-                                   const std::vector<bool>& solvable,
-                                   const field::ClusteringResult& clusters, double dSing, int n,
-                                   const std::vector<Complex>& u,
-                                   std::vector<double>& corrections, std::vector<bool>& changed) {
+std::vector<Complex> resolveRegion(
+    const TriMesh& mesh, const field::FieldGeometry& geometry, const field::SmoothnessTerms& terms,
+    const field::EdgeGraph& graph, const std::vector<int>& vertexOrder,
+    const std::vector<bool>& solvable, const field::ClusteringResult& clusters, double dSing, int n,
+    const std::vector<Complex>& u, std::vector<double>& corrections, std::vector<bool>& changed) {
   const int nf = static_cast<int>(mesh.n_faces());
   const std::vector<double> distance =
-      field::edgeGraphDistances(mesh, clusters.collapsedVertices, dSing);
+      field::edgeGraphDistances(graph, clusters.collapsedVertices, dSing);
   field::SmoothSolveInput region;
   region.free.assign(nf, false);
   region.value.resize(nf);
@@ -264,11 +262,12 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
   std::vector<double> density(mesh.n_vertices(), 0.0);
   for (std::size_t v = 0; v < density.size(); ++v)
     density[v] = curvature.area[v] > 0.0 ? curvature.gauss[v] / curvature.area[v] : 0.0;
+  const field::EdgeGraph graph(mesh);
   RosyField result = std::move(initialField);
   std::vector<Complex> u = initial;
   std::vector<double> corrections = initialCorrections;
   std::vector<bool> changed(nf, true);  // faces whose field differs from what `corrections` follows
-  std::vector<int> previousIndex;  // #V: the nodes left by the last clustering (0 elsewhere)
+  std::vector<int> previousIndex;       // #V: the nodes left by the last clustering (0 elsewhere)
   int previousCollapses = std::numeric_limits<int>::max();
   for (int round = 0; options.clusterSingularities && round < kClusteringRounds; ++round) {
     step(0.6 + 0.1 * round);
@@ -281,7 +280,7 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
         nodes.push_back({s.vertex, s.index});
         settled.push_back(!previousIndex.empty() && previousIndex[s.vertex] == s.index);
       }
-      return field::clusterSingularities(mesh, nodes, density, dSing, options.maxMergedIndex,
+      return field::clusterSingularities(mesh, graph, nodes, density, dSing, options.maxMergedIndex,
                                          settled);
     });
     // Stop when a round does not collapse fewer pairs than the one before: the re-solve is then
@@ -291,8 +290,8 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
     previousIndex.assign(mesh.n_vertices(), 0);
     for (const auto& node : clusters.nodes) previousIndex[node.vertex] = node.index;
     u = timed(timings, "cluster_solve", [&] {
-      return resolveRegion(mesh, geometry, terms, vertexOrder, input.free, clusters, dSing, n, u, corrections,
-                           changed);
+      return resolveRegion(mesh, geometry, terms, graph, vertexOrder, input.free, clusters, dSing,
+                           n, u, corrections, changed);
     });
     result = timed(timings, "cluster_singularities",
                    [&] { return field::rosyFieldFromAngles(mesh, geometry, anglesOf(u, n), n); });

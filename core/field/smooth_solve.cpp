@@ -40,7 +40,8 @@ SmoothnessTerms smoothnessTerms(const TriMesh& mesh) {
     terms.weight.push_back(std::clamp(std::isfinite(w) ? w : 1e3, 1e-3, 1e3));
   }
   std::vector<std::pair<int, int>> dualEdges(terms.face0.size());
-  for (std::size_t t = 0; t < dualEdges.size(); ++t) dualEdges[t] = {terms.face0[t], terms.face1[t]};
+  for (std::size_t t = 0; t < dualEdges.size(); ++t)
+    dualEdges[t] = {terms.face0[t], terms.face1[t]};
   terms.faceOrder = minimumDegreeOrder(static_cast<int>(mesh.n_faces()), dualEdges);
   return terms;
 }

@@ -272,9 +272,10 @@ TEST(FieldSolver, ClusteringOnTheBunnyLeavesNoCloseMergeablePairs) {
   for (const auto& s : field.singularities)
     if (!s.onBoundary) indexAt[s.vertex] = s.index;
   int closePairs = 0;
+  const field::EdgeGraph graph(mesh);
   for (const auto& s : field.singularities) {
     if (s.onBoundary) continue;
-    const auto distance = field::edgeGraphDistances(mesh, {s.vertex}, field.singularityDistance);
+    const auto distance = field::edgeGraphDistances(graph, {s.vertex}, field.singularityDistance);
     for (const auto& t : field.singularities)
       if (!t.onBoundary && t.vertex != s.vertex && distance[t.vertex] < field.singularityDistance &&
           std::abs(s.index + t.index) <= options.maxMergedIndex)
