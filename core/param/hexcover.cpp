@@ -16,6 +16,7 @@
 
 #include "core/common/error.h"
 #include "core/common/blas_threads.h"
+#include "core/common/sparse_forward_solve.h"
 #include "core/param/conformal_scale.h"
 #include "core/param/cut_graph.h"
 #include "core/param/integer_elimination.h"
@@ -358,32 +359,19 @@ LeastSquares buildLeastSquares(const TriMesh& mesh, const CutMesh& cm, const Unk
   return ls;
 }
 
-// CHOLMOD's supernodal factorization with access to its factor, for cholmod_solve2.
+// CHOLMOD's supernodal factorization with access to its factor.
 class CholmodFactorization : public Eigen::CholmodSupernodalLLT<SparseMatrix> {
  public:
-  cholmod_factor* factor() const { return m_cholmodFactor; }
+  const cholmod_factor* factor() const { return m_cholmodFactor; }
 };
 
 // A sparse symmetric positive definite factorization that keeps its symbolic analysis across
-// refactorizations with the same pattern (new face weights only change values). Solves with
-// CHOLMOD reuse their dense workspaces from call to call (cholmod_solve2): the blocks of the
-// Schur complement are hundreds of MB on million-face meshes, and fresh pages for each one cost
-// more than the solve.
+// refactorizations with the same pattern (new face weights only change values).
 class SpdSolver {
  public:
   explicit SpdSolver(LinearSolver kind) : kind_(kind) {
     useSingleThreadedBlas();
     cholmod_.cholmod().print = 0;  // failures are reported through info(), never on stdout
-  }
-  SpdSolver(const SpdSolver&) = delete;
-  SpdSolver& operator=(const SpdSolver&) = delete;
-  ~SpdSolver() { releaseWorkspace(); }
-
-  /// Frees the solve workspaces (the next solve allocates them again).
-  void releaseWorkspace() {
-    for (cholmod_dense** workspace : {&x_, &y_, &e_})
-      if (*workspace) cholmod_free_dense(workspace, &cholmod_.cholmod());
-    ldltResult_.resize(0, 0);
   }
 
   void factorize(const SparseMatrix& a) {
@@ -391,28 +379,21 @@ class SpdSolver {
     else run(ldlt_, a);
   }
 
+  /// CHOLMOD's supernodal factor of the last factorization, null with SimplicialLDLT.
+  const cholmod_factor* supernodalFactor() const {
+    const cholmod_factor* factor = kind_ == LinearSolver::Cholmod ? cholmod_.factor() : nullptr;
+    return factor && factor->is_super ? factor : nullptr;
+  }
+
   /// A⁻¹ b for one or several right-hand sides, with the last factorization (b itself when
   /// nothing was factorized: the 0×0 system).
-  Eigen::MatrixXd solve(Eigen::MatrixXd b) const { return solveInWorkspace(b); }
-
-  /// The same, as a view of the solver's workspace (valid until the next solve); b is unchanged.
-  Eigen::Map<const Eigen::MatrixXd> solveInWorkspace(Eigen::MatrixXd& b) const {
-    if (b.rows() == 0 || b.cols() == 0) return {b.data(), b.rows(), b.cols()};
-    const double* x = nullptr;
-    if (kind_ == LinearSolver::Cholmod) {
-      cholmod_dense view = Eigen::viewAsCholmod(b);
-      if (!cholmod_solve2(CHOLMOD_A, cholmod_.factor(), &view, nullptr, &x_, nullptr, &y_, &e_,
-                          &cholmod_.cholmod()))
-        throw Error(ErrorCode::NumericalFailure, "the parameterization solve failed (out of memory?)");
-      x = static_cast<const double*>(x_->x);
-    } else {
-      ldltResult_ = ldlt_.solve(b);
-      x = ldltResult_.data();
-    }
-    const Eigen::Map<const Eigen::MatrixXd> result(x, b.rows(), b.cols());
-    if (!result.allFinite())
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& b) const {
+    if (b.rows() == 0 || b.cols() == 0) return b;
+    Eigen::MatrixXd x = kind_ == LinearSolver::Cholmod ? Eigen::MatrixXd(cholmod_.solve(b))
+                                                       : Eigen::MatrixXd(ldlt_.solve(b));
+    if (!x.allFinite())
       throw Error(ErrorCode::NumericalFailure, "the parameterization solve produced non-finite values");
-    return result;
+    return x;
   }
 
  private:
@@ -431,9 +412,7 @@ class SpdSolver {
   LinearSolver kind_;
   bool analyzed_ = false;
   Eigen::SimplicialLDLT<SparseMatrix> ldlt_;
-  mutable CholmodFactorization cholmod_;
-  mutable cholmod_dense *x_ = nullptr, *y_ = nullptr, *e_ = nullptr;  ///< cholmod_solve2 workspaces
-  mutable Eigen::MatrixXd ldltResult_;
+  CholmodFactorization cholmod_;
 };
 
 // The normal equations AᵀWA x = AᵀW f of the least squares with per-face weights, split into
@@ -469,27 +448,29 @@ class EnergySystem {
     }
     responses_.resize(0, 0);  // solved for the previous weights
     if (!integersFree) return;
-    // S and c by blocks of integer columns (bounded memory for large k). The solved columns
-    // A_rr⁻¹ A_ri are kept when they fit in kResponseBudget doubles: the rounding repair then
-    // reads its responses instead of solving for them.
-    // Blocks of at most 64 columns and kBlockBudget doubles: wider blocks solve faster per
-    // column, but CHOLMOD holds three copies of one.
-    constexpr double kBlockBudget = 16e6;  // 128 MB
-    const int kBlock = static_cast<int>(std::clamp(kBlockBudget / std::max(r, 1), 1.0, 64.0));
-    Eigen::MatrixXd block;
-    constexpr double kResponseBudget = 32e6;  // 256 MB
     schur_ = Eigen::MatrixXd(a.bottomRightCorner(k, k));
     c_ = b.tail(k) - ari_.transpose() * z_;
+    if (r == 0 || k == 0) return;
+    if (const cholmod_factor* factor = solver_.supernodalFactor()) {
+      // A_ir A_rr⁻¹ A_ri = Wᵀ W with W = L⁻¹ P A_ri, sparse because A_ri is (the integer unknowns
+      // touch only the vertices around cuts and singularities).
+      const SparseMatrix w = supernodalForwardSolve(*factor, ari_);
+      schur_ -= Eigen::MatrixXd(SparseMatrix(w.transpose()) * w);
+      return;
+    }
+    // Without a supernodal factor: S by blocks of integer columns (bounded memory for large k),
+    // keeping the solved columns A_rr⁻¹ A_ri when they fit in kResponseBudget doubles (the
+    // rounding repair then reads its responses instead of solving for them).
+    constexpr int kBlock = 64;
+    constexpr double kResponseBudget = 32e6;  // 256 MB
     const bool keep = static_cast<double>(r) * k <= kResponseBudget;
     if (keep) responses_.resize(r, k);
     for (int first = 0; first < k; first += kBlock) {
       const int width = std::min(kBlock, k - first);
-      block = ari_.middleCols(first, width);
-      const auto y = solver_.solveInWorkspace(block);
+      const Eigen::MatrixXd y = solver_.solve(Eigen::MatrixXd(ari_.middleCols(first, width)));
       schur_.middleCols(first, width) -= ari_.transpose() * y;
       if (keep) responses_.middleCols(first, width) = y;
     }
-    solver_.releaseWorkspace();
   }
 
   /// Integer unknowns (#i) of the minimizer with x_i[j] = values[j] where fixed[j] (integer

@@ -1,0 +1,132 @@
+// The sparse solvers of core/common: Cholesky with a shared elimination order, and the
+// supernodal forward solve with sparse right-hand sides behind the parameterization's Schur
+// complement.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/Dense>
+#include <algorithm>
+#include <vector>
+
+#include "core/common/sparse_cholesky.h"
+#include "core/common/sparse_forward_solve.h"
+
+namespace hexcover {
+namespace {
+
+using SparseMatrix = Eigen::SparseMatrix<double>;
+
+/// Edges of a side × side grid graph (4-neighbours).
+std::vector<std::pair<int, int>> gridEdges(int side) {
+  std::vector<std::pair<int, int>> edges;
+  for (int y = 0; y < side; ++y)
+    for (int x = 0; x < side; ++x) {
+      if (x + 1 < side) edges.emplace_back(y * side + x, y * side + x + 1);
+      if (y + 1 < side) edges.emplace_back(y * side + x, (y + 1) * side + x);
+    }
+  return edges;
+}
+
+/// Graph Laplacian plus `shift` on the diagonal, with varying edge weights (SPD).
+SparseMatrix shiftedLaplacian(int nodes, const std::vector<std::pair<int, int>>& edges,
+                              double shift) {
+  std::vector<Eigen::Triplet<double>> triplets;
+  std::vector<double> diagonal(nodes, shift);
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    const auto [a, b] = edges[e];
+    const double w = 1.0 + 0.5 * static_cast<double>(e % 7);
+    triplets.emplace_back(a, b, -w);
+    triplets.emplace_back(b, a, -w);
+    diagonal[a] += w;
+    diagonal[b] += w;
+  }
+  for (int i = 0; i < nodes; ++i) triplets.emplace_back(i, i, diagonal[i]);
+  SparseMatrix m(nodes, nodes);
+  m.setFromTriplets(triplets.begin(), triplets.end());
+  return m;
+}
+
+class SupernodalFactor : public Eigen::CholmodSupernodalLLT<SparseMatrix> {
+ public:
+  const cholmod_factor& factor() const { return *m_cholmodFactor; }
+};
+
+class SimplicialFactor : public Eigen::CholmodSimplicialLLT<SparseMatrix> {
+ public:
+  const cholmod_factor& factor() const { return *m_cholmodFactor; }
+};
+
+TEST(MinimumDegreeOrder, IsAPermutationOfTheNodes) {
+  const int side = 30;
+  std::vector<int> order = minimumDegreeOrder(side * side, gridEdges(side));
+  std::sort(order.begin(), order.end());
+  for (int i = 0; i < side * side; ++i) ASSERT_EQ(order[i], i);
+}
+
+TEST(SparseCholesky, RowsNumberedAlongASharedOrderGiveTheSameSolution) {
+  const int side = 40, n = side * side;
+  const auto edges = gridEdges(side);
+  const std::vector<int> order = minimumDegreeOrder(n, edges);
+  std::vector<int> renumber(n);
+  for (int k = 0; k < n; ++k) renumber[order[k]] = k;
+  std::vector<std::pair<int, int>> renumbered;
+  for (const auto& [a, b] : edges) renumbered.emplace_back(renumber[a], renumber[b]);
+  const SparseMatrix a = shiftedLaplacian(n, edges, 0.01);
+  const SparseMatrix ordered =
+      shiftedLaplacian(n, renumbered, 0.01);  // the same matrix, renumbered
+  Eigen::VectorXd b(n), orderedB(n);
+  for (int i = 0; i < n; ++i) b[i] = std::sin(0.37 * i);
+  for (int i = 0; i < n; ++i) orderedB[renumber[i]] = b[i];
+
+  const SparseCholesky<double> reordered(a, RowOrder::Reorder);
+  const SparseCholesky<double> given(ordered, RowOrder::AsGiven);
+  ASSERT_TRUE(reordered.ok());
+  ASSERT_TRUE(given.ok());
+  const Eigen::VectorXd x = reordered.solve(b), orderedX = given.solve(orderedB);
+  EXPECT_LT((a * x - b).norm(), 1e-9 * b.norm());
+  for (int i = 0; i < n; ++i)
+    ASSERT_NEAR(orderedX[renumber[i]], x[i], 1e-9 * x.cwiseAbs().maxCoeff());
+}
+
+TEST(SupernodalForwardSolve, GivesTheSchurComplementAndStaysSparse) {
+  const int side = 60, n = side * side, columns = 12;
+  const SparseMatrix a = shiftedLaplacian(n, gridEdges(side), 1e-3);
+  // Columns with a few nonzeros each, like the integer unknowns' couplings to a few vertices.
+  std::vector<Eigen::Triplet<double>> triplets;
+  for (int j = 0; j < columns; ++j)
+    for (int t = 0; t < 3; ++t) triplets.emplace_back((j * 977 + t * 61) % n, j, 1.0 + t - 0.3 * j);
+  SparseMatrix b(n, columns);
+  b.setFromTriplets(triplets.begin(), triplets.end());
+
+  SupernodalFactor cholesky;
+  cholesky.compute(a);
+  ASSERT_EQ(cholesky.info(), Eigen::Success);
+  ASSERT_TRUE(cholesky.factor().is_super);
+  const SparseMatrix w = supernodalForwardSolve(cholesky.factor(), b);
+  const Eigen::MatrixXd schur = Eigen::MatrixXd(SparseMatrix(w.transpose()) * w);
+  const Eigen::MatrixXd expected =
+      Eigen::MatrixXd(b).transpose() * cholesky.solve(Eigen::MatrixXd(b));
+  EXPECT_LT((schur - expected).cwiseAbs().maxCoeff(), 1e-9 * expected.cwiseAbs().maxCoeff());
+  // Only the elimination-tree paths are touched: far fewer than n entries per column.
+  EXPECT_LT(w.nonZeros(), static_cast<Eigen::Index>(columns) * n / 4);
+}
+
+TEST(SupernodalForwardSolve, RefusesASimplicialFactorAndAWrongSize) {
+  const int side = 10, n = side * side;
+  const SparseMatrix a = shiftedLaplacian(n, gridEdges(side), 1.0);
+  SimplicialFactor simplicial;
+  simplicial.compute(a);
+  ASSERT_EQ(simplicial.info(), Eigen::Success);
+  SparseMatrix b(n, 1);
+  b.insert(3, 0) = 1.0;
+  EXPECT_THROW(supernodalForwardSolve(simplicial.factor(), b), std::invalid_argument);
+  SupernodalFactor supernodal;
+  supernodal.compute(a);
+  ASSERT_EQ(supernodal.info(), Eigen::Success);
+  EXPECT_THROW(supernodalForwardSolve(supernodal.factor(), SparseMatrix(n + 1, 1)),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace hexcover
