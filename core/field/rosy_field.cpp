@@ -284,7 +284,7 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
                                          settled);
     });
     // Stop when a round does not collapse fewer pairs than the one before: the re-solve is then
-    // recreating the pairs it cancels (seen where R wraps around a handle, see rosy_field.h).
+    // recreating the pairs it cancels (at needle-like vertices, see rosy_field.h).
     if (clusters.collapses == 0 || clusters.collapses >= previousCollapses) break;
     previousCollapses = clusters.collapses;
     previousIndex.assign(mesh.n_vertices(), 0);

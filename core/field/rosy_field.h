@@ -110,10 +110,13 @@ struct FieldOptions {
 /// before (at most 6 rounds). Interior singularities then end up at least d_sing apart
 /// (graph-geodesic distance along edges) except pairs whose merge maxMergedIndex forbids;
 /// boundary vertices keep the indices of the boundary rule and are not clustered. Known
-/// limitation: when R contains a non-contractible loop (a handle of a genus > 0 surface thinner
-/// than d_sing, e.g. feline), the connection correction does not control the holonomy along that
-/// loop, the re-solve twists the field there and creates close ± pairs again; the rounds stop
-/// and some pairs closer than d_sing remain. Every component is solved on its own terms (its own
+/// limitations, where the re-solve brings cancelled singularities back and the rounds stop with
+/// pairs closer than d_sing: (1) at needle-like vertices (angle defect far from a multiple of
+/// 2π/N, e.g. 109° at a valence-4 vertex of feline) the corrected connection reaches the target
+/// holonomy, but only by turning more than π/N across single edges, which the power
+/// representation reads modulo 2π/N (measured on feline and max-planck); (2) when R contains a
+/// loop that is not contractible on the surface, the correction does not control the holonomy
+/// along it. Every component is solved on its own terms (its own
 /// constraints, or its smoothest field when it has none). Deterministic: the same mesh and
 /// options give the same bytes. Poincaré–Hopf is checked per component after every solve
 /// (std::logic_error on failure: a bug). Timings: geometry, curvature, constraints, connection,
