@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <queue>
+#include <set>
 #include <tuple>
 #include <utility>
 
@@ -138,13 +139,16 @@ ClusteringResult clusterSingularities(const TriMesh& mesh, const EdgeGraph& grap
     auto& at = nodesAt[nodes[node].vertex];
     at.erase(std::find(at.begin(), at.end(), node));
   };
+  std::set<std::pair<int, int>> forbidden;  // each pair is found from both of its nodes
   while (!candidates.empty()) {
     const auto [distance, a, b] = candidates.top();
     candidates.pop();
     if (!alive[a] || !alive[b]) continue;
+    // A merge may not create an index above maxIndex, unless it lowers the larger |I| of the
+    // pair (a needle-like vertex's +4/6 absorbing a −1/6 next to it).
     const int sum = nodes[a].index + nodes[b].index;
-    if (std::abs(sum) > maxIndex) {
-      ++result.forbiddenPairs;
+    if (std::abs(sum) > std::max({maxIndex, std::abs(nodes[a].index), std::abs(nodes[b].index)})) {
+      forbidden.emplace(a, b);
       continue;
     }
     const int va = nodes[a].vertex, vb = nodes[b].vertex;
@@ -179,6 +183,8 @@ ClusteringResult clusterSingularities(const TriMesh& mesh, const EdgeGraph& grap
     addNeighbours(merged);
   }
 
+  for (const auto& [a, b] : forbidden)
+    if (alive[a] && alive[b]) ++result.forbiddenPairs;
   for (std::size_t i = 0; i < nodes.size(); ++i)
     if (alive[i]) result.nodes.push_back(nodes[i]);
   std::sort(result.nodes.begin(), result.nodes.end(),

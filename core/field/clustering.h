@@ -35,7 +35,7 @@ struct ClusteringResult {
   std::vector<ClusterNode> nodes;  ///< the remaining singularity constraints, I ≠ 0, by vertex
   std::vector<int> collapsedVertices;  ///< V_collapse: both ends of every collapsed edge, sorted
   int collapses = 0;                   ///< merges and cancellations performed
-  int forbiddenPairs = 0;              ///< pairs closer than d_sing left apart (|I_a + I_b| > max)
+  int forbiddenPairs = 0;  ///< remaining pairs closer than d_sing whose merge the rule forbids
 };
 
 /// Collapses the singularity graph (section 3.3). The graph is the dual of the geodesic Voronoi
@@ -45,7 +45,8 @@ struct ClusteringResult {
 /// two nodes are closer than d_sing). Edges are collapsed by increasing length (ties: lower node
 /// ids first): the merged node has index I_a + I_b and sits on the shortest path from a to b at
 /// arc-length fraction |K_b| / (|K_a| + |K_b|) (½ when both are 0), i.e. closer to the larger
-/// |K|; a zero sum cancels both. Collapses that would give |I| > maxIndex are skipped. Nodes are
+/// |K|; a zero sum cancels both. Collapses that would give |I| > maxIndex are skipped unless they
+/// lower the larger |I| of the pair (|I_a + I_b| ≤ max(maxIndex, |I_a|, |I_b|)). Nodes are
 /// never placed on boundary vertices (the nearest interior vertex of the path is used).
 /// `nodes` must be interior vertices; `gaussDensity` is #V |K|/area or any per-vertex weight.
 /// `settled` (empty or one flag per node): nodes known to have no collapsible partner among the

@@ -105,11 +105,14 @@ void fixBoundaryFaces(const TriMesh& mesh, const field::FieldGeometry& geometry,
 /// `corrections` (#E) and returns the new field (#F, unit outside R). `changed` (#F) marks the
 /// faces whose field changed since `corrections` last followed it (only their edges' turns are
 /// recomputed); on return it marks the faces of R.
-std::vector<Complex> resolveRegion(
-    const TriMesh& mesh, const field::FieldGeometry& geometry, const field::SmoothnessTerms& terms,
-    const field::EdgeGraph& graph, const std::vector<int>& vertexOrder,
-    const std::vector<bool>& solvable, const field::ClusteringResult& clusters, double dSing, int n,
-    const std::vector<Complex>& u, std::vector<double>& corrections, std::vector<bool>& changed) {
+std::vector<Complex> resolveRegion(const TriMesh& mesh, const field::FieldGeometry& geometry,
+                                   const field::SmoothnessTerms& terms,
+                                   const field::EdgeGraph& graph,
+                                   const std::vector<int>& vertexOrder,
+                                   const std::vector<bool>& solvable,
+                                   const field::ClusteringResult& clusters, double dSing, int n,
+                                   const std::vector<Complex>& u, std::vector<double>& corrections,
+                                   std::vector<bool>& changed, std::vector<double>& matchingShift) {
   const int nf = static_cast<int>(mesh.n_faces());
   const std::vector<double> distance =
       field::edgeGraphDistances(graph, clusters.collapsedVertices, dSing);
@@ -141,6 +144,8 @@ std::vector<Complex> resolveRegion(
   for (const auto& node : clusters.nodes) target[node.vertex] += 2.0 * M_PI * node.index / n;
   corrections = field::ConnectionCorrector(mesh, geometry, touchesRegion, freeEdges, vertexOrder)
                     .corrections(target, corrections);
+  for (std::size_t e = 0; e < freeEdges.size(); ++e)
+    if (freeEdges[e]) matchingShift[e] = corrections[e];
   changed = region.free;
   return field::solveSmoothField(terms, geometry.transport, corrections, n, region);
 }
@@ -267,7 +272,8 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
   std::vector<Complex> u = initial;
   std::vector<double> corrections = initialCorrections;
   std::vector<bool> changed(nf, true);  // faces whose field differs from what `corrections` follows
-  std::vector<int> previousIndex;       // #V: the nodes left by the last clustering (0 elsewhere)
+  std::vector<double> matchingShift(mesh.n_edges(), 0.0);  // the re-solves' corrections
+  std::vector<int> previousIndex;  // #V: the nodes left by the last clustering (0 elsewhere)
   int previousCollapses = std::numeric_limits<int>::max();
   for (int round = 0; options.clusterSingularities && round < kClusteringRounds; ++round) {
     step(0.6 + 0.1 * round);
@@ -284,17 +290,18 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
                                          settled);
     });
     // Stop when a round does not collapse fewer pairs than the one before: the re-solve is then
-    // recreating the pairs it cancels (at needle-like vertices, see rosy_field.h).
+    // recreating the pairs it cancels (see the known limitation in rosy_field.h).
     if (clusters.collapses == 0 || clusters.collapses >= previousCollapses) break;
     previousCollapses = clusters.collapses;
     previousIndex.assign(mesh.n_vertices(), 0);
     for (const auto& node : clusters.nodes) previousIndex[node.vertex] = node.index;
     u = timed(timings, "cluster_solve", [&] {
       return resolveRegion(mesh, geometry, terms, graph, vertexOrder, input.free, clusters, dSing,
-                           n, u, corrections, changed);
+                           n, u, corrections, changed, matchingShift);
     });
-    result = timed(timings, "cluster_singularities",
-                   [&] { return field::rosyFieldFromAngles(mesh, geometry, anglesOf(u, n), n); });
+    result = timed(timings, "cluster_singularities", [&] {
+      return field::rosyFieldFromAngles(mesh, geometry, anglesOf(u, n), n, matchingShift);
+    });
   }
   result.singularitiesInitial = initialCount;
   result.singularityDistance = dSing;

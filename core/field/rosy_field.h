@@ -8,7 +8,10 @@
 //   f0 and h1 = halfedge(e,1) in face f1: the representative of f0, parallel-transported across
 //   the edge into f1 (unfolding the two triangles about the edge), is closest to the
 //   representative of f1 rotated by 2π r_e / N (paper eq. (2): F_u in f0 pairs with R^{r} F_u in
-//   f1). Read from f1 to f0 it is (N - r_e) mod N. Boundary edges have 0.
+//   f1). Read from f1 to f0 it is (N - r_e) mod N. Boundary edges have 0. Exception: on the
+//   edges of a clustering re-solve region, the matching is the one the corrected connection
+//   ρ_e + c_e intends (closest relative to ρ_e + c_e), which differs from the closest one only
+//   where |c_e| > π/N, next to needle-like vertices; δ_e below then lies within π/N of c_e.
 // - A singularity of index I/N at a vertex (I ≠ 0). Indices include the angle defect, so that on
 //   every component Σ I/N = χ (Poincaré–Hopf, with boundary vertices by their own rule).
 //
@@ -88,9 +91,10 @@ struct FieldOptions {
   /// d_sing in mesh units; 0 means singularityDistanceFraction × bounding-box diagonal.
   double singularityDistance = 0.0;
   double singularityDistanceFraction = 0.1;  ///< the paper's 0.1 B
-  /// Largest |I| a merge may create. 1 keeps every singularity of index ±1/N, whose fixed point
-  /// is a lattice point in the parameterization (±2/6 and ±3/6 would need ⅓ and ½ lattice
-  /// points); such pairs then stay closer than d_sing. Set higher to allow higher-order merges.
+  /// Largest |I| a merge may create, unless it lowers the larger |I| of the pair. 1 keeps every
+  /// merged singularity at index ±1/N, whose fixed point is a lattice point in the
+  /// parameterization (±2/6 is best placed at ⅓ lattice points, which are not supported); pairs
+  /// of +1/N then stay closer than d_sing. Set higher to allow higher-order merges.
   int maxMergedIndex = 1;
   BoundaryAlignment boundary = BoundaryAlignment::Tangent;
   /// With Tangent: a boundary edge's tangent is the chord from the boundary vertex `reach` steps
@@ -105,25 +109,24 @@ struct FieldOptions {
 /// The geometry-aware N-RoSy field of paper section 3: curvature (core/geometry), directional
 /// constraints at strong cylindrical faces, the smooth solve with the filtered Gauss curvature K̄
 /// (Ray et al.), singularity extraction, clustering with d_sing and the re-solve in the region R
-/// around the collapsed singularities (K̄ zero except 2πI/N at the remaining ones), repeated on
-/// the result (R = the newly collapsed ones) while each round collapses fewer pairs than the one
-/// before (at most 6 rounds). Interior singularities then end up at least d_sing apart
-/// (graph-geodesic distance along edges) except pairs whose merge maxMergedIndex forbids;
-/// boundary vertices keep the indices of the boundary rule and are not clustered. Known
-/// limitations, where the re-solve brings cancelled singularities back and the rounds stop with
-/// pairs closer than d_sing: (1) at needle-like vertices (angle defect far from a multiple of
-/// 2π/N, e.g. 109° at a valence-4 vertex of feline) the corrected connection reaches the target
-/// holonomy, but only by turning more than π/N across single edges, which the power
-/// representation reads modulo 2π/N (measured on feline and max-planck); (2) when R contains a
-/// loop that is not contractible on the surface, the correction does not control the holonomy
-/// along it. Every component is solved on its own terms (its own
-/// constraints, or its smoothest field when it has none). Deterministic: the same mesh and
+/// around the collapsed singularities (K̄ zero except 2πI/N at the remaining ones), repeated on the
+/// result (R = the newly collapsed ones) while each round collapses fewer pairs than the one before
+/// (at most 6 rounds). Interior singularities then end up at least d_sing apart (graph-geodesic
+/// distance along edges) except pairs whose merge maxMergedIndex forbids; boundary vertices keep
+/// the indices of the boundary rule and are not clustered. At needle-like vertices (angle defect
+/// far from a multiple of 2π/N, e.g. 109° at a valence-4 vertex of feline) the corrected connection
+/// of a re-solve turns by more than π/N across single edges; the matchings there follow the
+/// corrected connection (see above), so that the re-solved field has its target
+/// singularities instead of a cluster around the needle. Known limitation: when R contains a loop
+/// that is not contractible on the surface, the correction does not control the holonomy along it,
+/// and the re-solve may bring cancelled pairs back. Every component is solved on its own terms (its
+/// own constraints, or its smoothest field when it has none). Deterministic: the same mesh and
 /// options give the same bytes. Poincaré–Hopf is checked per component after every solve
 /// (std::logic_error on failure: a bug). Timings: geometry, curvature, constraints, connection,
 /// filter_gauss_curvature, initial_solve, initial_singularities, then per clustering round
-/// clustering, cluster_solve, cluster_singularities.
-/// Throws Error(InvalidOption) for invalid options, Error(InvalidMesh) for a mesh without faces,
-/// Error(NumericalFailure) if a factorization fails, Error(Canceled) when `context` asks.
+/// clustering, cluster_solve, cluster_singularities. Throws Error(InvalidOption) for invalid
+/// options, Error(InvalidMesh) for a mesh without faces, Error(NumericalFailure) if a factorization
+/// fails, Error(Canceled) when `context` asks.
 RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options = {},
                            const RunContext& context = {});
 

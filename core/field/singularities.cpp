@@ -41,7 +41,8 @@ std::vector<double> boundaryEdgeAngles(const TriMesh& mesh, const FieldGeometry&
 }
 
 RosyField rosyFieldFromAngles(const TriMesh& mesh, const FieldGeometry& geometry,
-                              const std::vector<double>& angles, int n) {
+                              const std::vector<double>& angles, int n,
+                              const std::vector<double>& matchingShift) {
   const double period = 2.0 * M_PI / n;
   RosyField field;
   field.n = n;
@@ -65,9 +66,12 @@ RosyField rosyFieldFromAngles(const TriMesh& mesh, const FieldGeometry& geometry
       continue;
     }
     const int f0 = h0.face().idx(), f1 = h1.face().idx();
-    // x = θ0 + ρ − θ1 = 2π k / N − δ with δ in [−π/N, π/N]; r = k mod N.
+    // x = θ0 + ρ + s − θ1 = 2π k / N − δ' with δ' in [−π/N, π/N]; r = k mod N. The turn
+    // relative to ρ with that matching is δ = δ' + s.
     long long k = 0;
-    const double delta = -reduce(angles[f0] + geometry.transport[eh.idx()] - angles[f1], period, k);
+    const double shift = matchingShift.empty() ? 0.0 : matchingShift[eh.idx()];
+    const double delta =
+        shift - reduce(angles[f0] + geometry.transport[eh.idx()] + shift - angles[f1], period, k);
     field.edgeMatching[eh.idx()] = static_cast<int>(((k % n) + n) % n);
     turn[h0.to().idx()] += delta;
     turn[h1.to().idx()] -= delta;

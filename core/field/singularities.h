@@ -27,7 +27,12 @@ std::vector<double> boundaryEdgeAngles(const TriMesh& mesh, const FieldGeometry&
 /// Matchings, singularities and Euler characteristic of the field with representative angles θ
 /// (#F, radians in each face frame), with the index checks described in rosy_field.h.
 /// Fills every member of the result except timings (singularitiesInitial = singularities.size()).
+/// The matching of edge e is the period nearest to the field's turn relative to ρ_e + shift_e
+/// (`matchingShift`: #E, or empty for none): a field parallel for a corrected connection ρ + c
+/// (Ray et al.) keeps the matching that connection intends even where |c_e| exceeds π/N, where
+/// the nearest period relative to ρ alone would read the turn the other way round.
 RosyField rosyFieldFromAngles(const TriMesh& mesh, const FieldGeometry& geometry,
-                              const std::vector<double>& angles, int n);
+                              const std::vector<double>& angles, int n,
+                              const std::vector<double>& matchingShift = {});
 
 }  // namespace hexcover::field
