@@ -4,8 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
-#include <array>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 
