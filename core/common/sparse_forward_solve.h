@@ -11,6 +11,14 @@
 
 namespace hexcover {
 
+/// Eigen's CHOLMOD supernodal LLᵀ with read access to the factor that supernodalForwardSolve needs.
+template <typename Matrix>
+class CholmodSupernodalFactorization : public Eigen::CholmodSupernodalLLT<Matrix> {
+ public:
+  /// The last factorization's factor; null before the first analysis.
+  const cholmod_factor* factor() const { return this->m_cholmodFactor; }
+};
+
 /// W = L⁻¹ P B (rows in the factor's order) for a real supernodal LLᵀ factor (as CHOLMOD's
 /// supernodal factorization computes it) and a sparse B with factor.n rows. Throws
 /// std::invalid_argument for another kind of factor or a B of the wrong size.

@@ -144,13 +144,11 @@ ClusteringResult clusterSingularities(const TriMesh& mesh, const EdgeGraph& grap
     const auto [distance, a, b] = candidates.top();
     candidates.pop();
     if (!alive[a] || !alive[b]) continue;
-    // A merge may not create an index above maxIndex, unless it lowers the larger |I| of the
-    // pair (a needle-like vertex's +4/6 absorbing a −1/6 next to it).
-    const int sum = nodes[a].index + nodes[b].index;
-    if (std::abs(sum) > std::max({maxIndex, std::abs(nodes[a].index), std::abs(nodes[b].index)})) {
+    if (!mayMerge(nodes[a], nodes[b], maxIndex)) {
       forbidden.emplace(a, b);
       continue;
     }
+    const int sum = nodes[a].index + nodes[b].index;
     const int va = nodes[a].vertex, vb = nodes[b].vertex;
     result.collapsedVertices.push_back(va);
     result.collapsedVertices.push_back(vb);

@@ -3,6 +3,8 @@
 // it needs. Distances are shortest paths along mesh edges (Dijkstra), an upper bound of the
 // geodesic distance that is within a few percent of it on well-shaped meshes.
 
+#include <algorithm>
+#include <cstdlib>
 #include <limits>
 #include <vector>
 
@@ -31,6 +33,12 @@ struct ClusterNode {
   int index = 0;  ///< I (index I/N)
 };
 
+/// The merge rule of clusterSingularities: the merged index |I_a + I_b| may exceed maxIndex only
+/// when it lowers the larger |I| of the pair (a +4/N needle absorbing a −1/N).
+inline bool mayMerge(const ClusterNode& a, const ClusterNode& b, int maxIndex) {
+  return std::abs(a.index + b.index) <= std::max({maxIndex, std::abs(a.index), std::abs(b.index)});
+}
+
 struct ClusteringResult {
   std::vector<ClusterNode> nodes;  ///< the remaining singularity constraints, I ≠ 0, by vertex
   std::vector<int> collapsedVertices;  ///< V_collapse: both ends of every collapsed edge, sorted
@@ -45,8 +53,7 @@ struct ClusteringResult {
 /// two nodes are closer than d_sing). Edges are collapsed by increasing length (ties: lower node
 /// ids first): the merged node has index I_a + I_b and sits on the shortest path from a to b at
 /// arc-length fraction |K_b| / (|K_a| + |K_b|) (½ when both are 0), i.e. closer to the larger
-/// |K|; a zero sum cancels both. Collapses that would give |I| > maxIndex are skipped unless they
-/// lower the larger |I| of the pair (|I_a + I_b| ≤ max(maxIndex, |I_a|, |I_b|)). Nodes are
+/// |K|; a zero sum cancels both. Collapses that mayMerge refuses are skipped. Nodes are
 /// never placed on boundary vertices (the nearest interior vertex of the path is used).
 /// `nodes` must be interior vertices; `gaussDensity` is #V |K|/area or any per-vertex weight.
 /// `settled` (empty or one flag per node): nodes known to have no collapsible partner among the

@@ -99,16 +99,12 @@ ConnectionCorrector::ConnectionCorrector(const TriMesh& mesh, const FieldGeometr
   std::vector<bool> groupAnchored(nv, false);
   for (int v = 0; v < nv; ++v)
     if (isConstrained(v) && anchored[v]) groupAnchored[root(v)] = true;
+  // Rows numbered along vertexOrder (by vertex index without one); a floating group pins its
+  // lowest vertex (its root).
   int rows = 0;
-  std::vector<int> sequence = vertexOrder;  // rows are numbered in this order
-  if (sequence.empty()) {
-    sequence.resize(nv);
-    std::iota(sequence.begin(), sequence.end(), 0);
-  }
-  for (const int v : sequence) {
-    if (!isConstrained(v)) continue;
-    if (!groupAnchored[root(v)] && v == root(v)) continue;  // a floating group pins its lowest
-    row_[v] = rows++;
+  for (int k = 0; k < nv; ++k) {
+    const int v = vertexOrder.empty() ? k : vertexOrder[k];
+    if (isConstrained(v) && (groupAnchored[root(v)] || v != root(v))) row_[v] = rows++;
   }
   std::vector<Eigen::Triplet<double>> triplets;
   triplets.reserve(rows + 2 * mesh.n_edges());

@@ -95,35 +95,44 @@ void fixBoundaryFaces(const TriMesh& mesh, const field::FieldGeometry& geometry,
   }
 }
 
+/// What every clustering re-solve of a run shares: built once.
+struct ClusterSolveInputs {
+  const field::SmoothnessTerms& terms;  ///< with the dual graph's elimination order
+  const field::EdgeGraph& graph;
+  const std::vector<int>& vertexOrder;  ///< the vertex graph's elimination order
+  const std::vector<bool>& solvable;    ///< #F: false at the boundary-aligned faces
+};
+
+/// What the clustering re-solves carry from one round to the next.
+struct ClusterSolveState {
+  std::vector<Complex> u;             ///< #F field in the power representation
+  std::vector<double> corrections;    ///< #E connection corrections c
+  std::vector<bool> changed;          ///< #F faces whose field `corrections` does not follow yet
+  std::vector<double> matchingShift;  ///< #E corrections of the edges last re-solved (else 0)
+};
+
 /// One re-solve of section 3.3 after a clustering: the field in the region R (faces with a vertex
 /// closer than d_sing to a collapsed singularity; boundary-aligned faces stay fixed) with
 /// K̄ = 2π I / N at the remaining singularities and 0 at every other vertex of R. The connection:
 /// across every edge at a fixed face, the fixed field's own turn (so the field is parallel
 /// there); on the edges between free faces, the smallest change of `corrections` that gives
 /// those holonomies. The boundary data is then compatible and the solve returns the parallel
-/// field, whose singularities are the targets. Directional constraints are off. Updates
-/// `corrections` (#E) and returns the new field (#F, unit outside R). `changed` (#F) marks the
-/// faces whose field changed since `corrections` last followed it (only their edges' turns are
-/// recomputed); on return it marks the faces of R.
-std::vector<Complex> resolveRegion(const TriMesh& mesh, const field::FieldGeometry& geometry,
-                                   const field::SmoothnessTerms& terms,
-                                   const field::EdgeGraph& graph,
-                                   const std::vector<int>& vertexOrder,
-                                   const std::vector<bool>& solvable,
-                                   const field::ClusteringResult& clusters, double dSing, int n,
-                                   const std::vector<Complex>& u, std::vector<double>& corrections,
-                                   std::vector<bool>& changed, std::vector<double>& matchingShift) {
+/// field, whose singularities are the targets. Directional constraints are off. Updates every
+/// member of `state` (see ClusterSolveState).
+void resolveRegion(const TriMesh& mesh, const field::FieldGeometry& geometry,
+                   const ClusterSolveInputs& inputs, const field::ClusteringResult& clusters,
+                   double dSing, int n, ClusterSolveState& state) {
   const int nf = static_cast<int>(mesh.n_faces());
   const std::vector<double> distance =
-      field::edgeGraphDistances(graph, clusters.collapsedVertices, dSing);
+      field::edgeGraphDistances(inputs.graph, clusters.collapsedVertices, dSing);
   field::SmoothSolveInput region;
   region.free.assign(nf, false);
   region.value.resize(nf);
   for (const auto fh : mesh.faces()) {
     const int f = fh.idx();
-    const double magnitude = std::abs(u[f]);
-    region.value[f] = magnitude > 0.0 ? u[f] / magnitude : Complex(1.0, 0.0);
-    if (!solvable[f]) continue;
+    const double magnitude = std::abs(state.u[f]);
+    region.value[f] = magnitude > 0.0 ? state.u[f] / magnitude : Complex(1.0, 0.0);
+    if (!inputs.solvable[f]) continue;
     for (const auto vh : fh.vertices())
       if (distance[vh.idx()] < dSing) region.free[f] = true;
   }
@@ -135,19 +144,21 @@ std::vector<Complex> resolveRegion(const TriMesh& mesh, const field::FieldGeomet
     if (mesh.is_boundary(eh)) continue;
     const int f0 = eh.h0().face().idx(), f1 = eh.h1().face().idx();
     freeEdges[eh.idx()] = region.free[f0] && region.free[f1];
-    if (!freeEdges[eh.idx()] && (changed[f0] || changed[f1])) {  // N δ_e = Arg(u_f1/(e^{iNρ} u_f0))
+    if (!freeEdges[eh.idx()] &&
+        (state.changed[f0] || state.changed[f1])) {  // N δ_e = Arg(u_f1/(e^{iNρ} u_f0))
       const Complex rotation = std::polar(1.0, n * geometry.transport[eh.idx()]);
-      corrections[eh.idx()] = std::arg(region.value[f1] / (rotation * region.value[f0])) / n;
+      state.corrections[eh.idx()] = std::arg(region.value[f1] / (rotation * region.value[f0])) / n;
     }
   }
   std::vector<double> target(mesh.n_vertices(), 0.0);
   for (const auto& node : clusters.nodes) target[node.vertex] += 2.0 * M_PI * node.index / n;
-  corrections = field::ConnectionCorrector(mesh, geometry, touchesRegion, freeEdges, vertexOrder)
-                    .corrections(target, corrections);
+  state.corrections =
+      field::ConnectionCorrector(mesh, geometry, touchesRegion, freeEdges, inputs.vertexOrder)
+          .corrections(target, state.corrections);
   for (std::size_t e = 0; e < freeEdges.size(); ++e)
-    if (freeEdges[e]) matchingShift[e] = corrections[e];
-  changed = region.free;
-  return field::solveSmoothField(terms, geometry.transport, corrections, n, region);
+    if (freeEdges[e]) state.matchingShift[e] = state.corrections[e];
+  state.changed = region.free;
+  state.u = field::solveSmoothField(inputs.terms, geometry.transport, state.corrections, n, region);
 }
 
 }  // namespace
@@ -268,11 +279,10 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
   for (std::size_t v = 0; v < density.size(); ++v)
     density[v] = curvature.area[v] > 0.0 ? curvature.gauss[v] / curvature.area[v] : 0.0;
   const field::EdgeGraph graph(mesh);
+  const ClusterSolveInputs inputs{terms, graph, vertexOrder, input.free};
   RosyField result = std::move(initialField);
-  std::vector<Complex> u = initial;
-  std::vector<double> corrections = initialCorrections;
-  std::vector<bool> changed(nf, true);  // faces whose field differs from what `corrections` follows
-  std::vector<double> matchingShift(mesh.n_edges(), 0.0);  // the re-solves' corrections
+  ClusterSolveState state{initial, initialCorrections, std::vector<bool>(nf, true),
+                          std::vector<double>(mesh.n_edges(), 0.0)};
   std::vector<int> previousIndex;  // #V: the nodes left by the last clustering (0 elsewhere)
   int previousCollapses = std::numeric_limits<int>::max();
   for (int round = 0; options.clusterSingularities && round < kClusteringRounds; ++round) {
@@ -295,12 +305,11 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
     previousCollapses = clusters.collapses;
     previousIndex.assign(mesh.n_vertices(), 0);
     for (const auto& node : clusters.nodes) previousIndex[node.vertex] = node.index;
-    u = timed(timings, "cluster_solve", [&] {
-      return resolveRegion(mesh, geometry, terms, graph, vertexOrder, input.free, clusters, dSing,
-                           n, u, corrections, changed, matchingShift);
-    });
+    timed(timings, "cluster_solve",
+          [&] { resolveRegion(mesh, geometry, inputs, clusters, dSing, n, state); });
     result = timed(timings, "cluster_singularities", [&] {
-      return field::rosyFieldFromAngles(mesh, geometry, anglesOf(u, n), n, matchingShift);
+      return field::rosyFieldFromAngles(mesh, geometry, anglesOf(state.u, n), n,
+                                        state.matchingShift);
     });
   }
   result.singularitiesInitial = initialCount;

@@ -359,12 +359,6 @@ LeastSquares buildLeastSquares(const TriMesh& mesh, const CutMesh& cm, const Unk
   return ls;
 }
 
-// CHOLMOD's supernodal factorization with access to its factor.
-class CholmodFactorization : public Eigen::CholmodSupernodalLLT<SparseMatrix> {
- public:
-  const cholmod_factor* factor() const { return m_cholmodFactor; }
-};
-
 // A sparse symmetric positive definite factorization that keeps its symbolic analysis across
 // refactorizations with the same pattern (new face weights only change values).
 class SpdSolver {
@@ -412,7 +406,7 @@ class SpdSolver {
   LinearSolver kind_;
   bool analyzed_ = false;
   Eigen::SimplicialLDLT<SparseMatrix> ldlt_;
-  CholmodFactorization cholmod_;
+  CholmodSupernodalFactorization<SparseMatrix> cholmod_;
 };
 
 // The normal equations AᵀWA x = AᵀW f of the least squares with per-face weights, split into

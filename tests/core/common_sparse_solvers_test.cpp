@@ -47,11 +47,6 @@ SparseMatrix shiftedLaplacian(int nodes, const std::vector<std::pair<int, int>>&
   return m;
 }
 
-class SupernodalFactor : public Eigen::CholmodSupernodalLLT<SparseMatrix> {
- public:
-  const cholmod_factor& factor() const { return *m_cholmodFactor; }
-};
-
 class SimplicialFactor : public Eigen::CholmodSimplicialLLT<SparseMatrix> {
  public:
   const cholmod_factor& factor() const { return *m_cholmodFactor; }
@@ -99,11 +94,12 @@ TEST(SupernodalForwardSolve, GivesTheSchurComplementAndStaysSparse) {
   SparseMatrix b(n, columns);
   b.setFromTriplets(triplets.begin(), triplets.end());
 
-  SupernodalFactor cholesky;
+  CholmodSupernodalFactorization<SparseMatrix> cholesky;
   cholesky.compute(a);
   ASSERT_EQ(cholesky.info(), Eigen::Success);
-  ASSERT_TRUE(cholesky.factor().is_super);
-  const SparseMatrix w = supernodalForwardSolve(cholesky.factor(), b);
+  ASSERT_NE(cholesky.factor(), nullptr);
+  ASSERT_TRUE(cholesky.factor()->is_super);
+  const SparseMatrix w = supernodalForwardSolve(*cholesky.factor(), b);
   const Eigen::MatrixXd schur = Eigen::MatrixXd(SparseMatrix(w.transpose()) * w);
   const Eigen::MatrixXd expected =
       Eigen::MatrixXd(b).transpose() * cholesky.solve(Eigen::MatrixXd(b));
@@ -121,10 +117,10 @@ TEST(SupernodalForwardSolve, RefusesASimplicialFactorAndAWrongSize) {
   SparseMatrix b(n, 1);
   b.insert(3, 0) = 1.0;
   EXPECT_THROW(supernodalForwardSolve(simplicial.factor(), b), std::invalid_argument);
-  SupernodalFactor supernodal;
+  CholmodSupernodalFactorization<SparseMatrix> supernodal;
   supernodal.compute(a);
   ASSERT_EQ(supernodal.info(), Eigen::Success);
-  EXPECT_THROW(supernodalForwardSolve(supernodal.factor(), SparseMatrix(n + 1, 1)),
+  EXPECT_THROW(supernodalForwardSolve(*supernodal.factor(), SparseMatrix(n + 1, 1)),
                std::invalid_argument);
 }
 

@@ -60,8 +60,7 @@ int closeMergeablePairs(const TriMesh& mesh, const RosyField& field, int maxMerg
     const auto distance = field::edgeGraphDistances(graph, {s.vertex}, field.singularityDistance);
     for (const auto& t : field.singularities)
       if (!t.onBoundary && t.vertex != s.vertex && distance[t.vertex] < field.singularityDistance &&
-          std::abs(s.index + t.index) <=
-              std::max({maxMergedIndex, std::abs(s.index), std::abs(t.index)}))
+          field::mayMerge({s.vertex, s.index}, {t.vertex, t.index}, maxMergedIndex))
         ++pairs;
   }
   return pairs;
