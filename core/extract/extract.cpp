@@ -11,6 +11,7 @@
 #include "core/common/error.h"
 #include "core/extract/boundary.h"
 #include "core/extract/exact_lattice.h"
+#include "core/extract/surface_fit.h"
 
 namespace hexcover {
 
@@ -23,6 +24,9 @@ void ExtractOptions::validate() const {
   if (!(sharpBoundaryAngle >= 0.0 && sharpBoundaryAngle <= 180.0))
     throw Error(ErrorCode::InvalidOption, "sharpBoundaryAngle must be in [0, 180] degrees, got " +
                                               std::to_string(sharpBoundaryAngle));
+  if (!(featureSnapDistance >= 0.0 && featureSnapDistance < 1.0))
+    throw Error(ErrorCode::InvalidOption, "featureSnapDistance must be in [0, 1), got " +
+                                              std::to_string(featureSnapDistance));
 }
 
 namespace {
@@ -878,6 +882,14 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     repairNonManifold(out, report);
     keepUncoveredComponents(mesh, faceComponent, componentCount, out, report);
     result.triangles = buildMesh(out, report);
+  }
+  if (options.fitToSurface) {
+    ScopedTimer timer(report.timings, "surface fit");
+    context.report("extract", 0.8);
+    context.throwIfCanceled();
+    const auto counts = extract_detail::fitRemeshToSurface(mesh, result.triangles, options.featureSnapDistance);
+    report.featureSnaps = counts.snapped;
+    report.smoothedVertices = counts.smoothed;
   }
   {
     ScopedTimer timer(report.timings, "hexagonal dual");

@@ -27,6 +27,9 @@
 //    local edge length (keeping corners sharper than `sharpBoundaryAngle`) and the strip between
 //    it and the lattice front is triangulated, so the output boundary lies on the input boundary.
 // 6. Components of the input on which no lattice triangle fits are copied unchanged.
+// 7. Fit (surface_fit.h): vertices move over the input surface where the lattice cuts off a
+//    sharp crease or tip (feature snapping) or next to poor triangles (smoothing), when that does
+//    not raise the local deviation from the input; the connectivity stays.
 
 #include <vector>
 
@@ -50,6 +53,12 @@ struct ExtractOptions {
   /// Boundary vertices of the input whose boundary turns by more than this many degrees are kept
   /// as output vertices (sharp corners). In [0, 180].
   double sharpBoundaryAngle = 30.0;
+  /// Step 7: fit the remesh to the input surface (feature snapping and smoothing of poor
+  /// triangles). Off: the vertices stay at the lattice points' positions.
+  bool fitToSurface = true;
+  /// Input vertices farther than this many local edge lengths from the remesh pull a remesh
+  /// vertex onto themselves (step 7). In [0, 1); 0 disables snapping.
+  double featureSnapDistance = 0.35;
 
   /// Throws Error(InvalidOption) naming the first bad option.
   void validate() const;
@@ -76,6 +85,8 @@ struct ExtractionReport {
   long long holeTriangles = 0;         ///< triangles added to close them
   long long unmatchedBoundaryLoops = 0;  ///< input boundary loops without a single lattice front
   long long componentsKept = 0;        ///< input components too small for the lattice, copied
+  long long featureSnaps = 0;          ///< vertices moved onto a sharp feature of the input
+  long long smoothedVertices = 0;      ///< vertex moves that opened up poor triangles
   long long nonManifoldVertices = 0;   ///< vertices with several fans, re-triangulated locally
   long long nonManifoldFacesDropped = 0;  ///< faces OpenMesh still refused (would be non-manifold)
   Timings timings;

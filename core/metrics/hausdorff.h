@@ -19,6 +19,7 @@
 #include <cstddef>
 #include <memory>
 
+#include "core/geometry/closest_point.h"
 #include "core/mesh/mesh.h"
 
 namespace hexcover {
@@ -39,35 +40,6 @@ struct DistanceOptions {
   int threads = 2;
 
   void validate() const;
-};
-
-/// Exact closest-point queries against one triangle mesh. Builds the BVH once (O(F log F));
-/// queries are thread-safe. Refuses a mesh without faces or with a non-finite coordinate
-/// (Error InvalidMesh).
-class ClosestPointQuery {
- public:
-  explicit ClosestPointQuery(const TriMesh& target);
-  ~ClosestPointQuery();
-  ClosestPointQuery(const ClosestPointQuery&) = delete;
-  ClosestPointQuery& operator=(const ClosestPointQuery&) = delete;
-
-  struct Result {
-    double distance = 0.0;
-    /// Closest face, lowest index among exact ties (faces counted in iteration order: the
-    /// OpenMesh index when the mesh has no deleted faces).
-    int face = -1;
-    Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< closest point on the mesh
-  };
-  /// Closest point of the mesh to `p`. `hintFace` (a face index, or −1) seeds the search radius
-  /// with the distance to that face, which makes queries near a known answer fast.
-  Result closest(const Eigen::Vector3d& p, int hintFace = -1) const;
-
-  /// Distance from `p` to face `face` of the target mesh.
-  double distanceToFace(const Eigen::Vector3d& p, int face) const;
-
- private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
 };
 
 /// Distances from the points of one surface to another, in the meshes' length unit.

@@ -1,0 +1,273 @@
+#include "core/extract/surface_fit.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "core/geometry/closest_point.h"
+
+namespace hexcover::extract_detail {
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+using SVH = OpenMesh::SmartVertexHandle;
+
+/// Snapped corners move at most this many local edge lengths.
+constexpr double kSnapReach = 0.7;
+/// Angles that a snapped corner's triangles must keep (degrees).
+constexpr double kSnapMinAngle = 25.0;
+constexpr double kSnapMaxAngle = 115.0;
+/// A triangle with an angle outside [kPoorMinAngle, kPoorMaxAngle] is poor: its corners are
+/// smoothed.
+constexpr double kPoorMinAngle = 25.0;
+constexpr double kPoorMaxAngle = 110.0;
+/// Smoothing may raise a fan's local deviation up to this many local edge lengths (flat regions:
+/// the projection onto the input moves the fan by far less).
+constexpr double kSmoothingDeviation = 0.1;
+/// A moved triangle's normal must stay within acos(0.5) = 60° of its normal before the move.
+constexpr double kMinNormalCosine = 0.5;
+
+/// Angle at corner a of triangle (a, b, c), in degrees.
+double angleAt(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 u = b - a, w = c - a;
+  return std::atan2(u.cross(w).norm(), u.dot(w)) * 180.0 / M_PI;
+}
+
+/// The smallest and largest angle of triangle (p0, p1, p2).
+std::array<double, 2> angleRange(const std::array<Vec3, 3>& p) {
+  std::array<double, 2> range{180.0, 0.0};
+  for (int j = 0; j < 3; ++j) {
+    const double a = angleAt(p[j], p[(j + 1) % 3], p[(j + 2) % 3]);
+    range = {std::min(range[0], a), std::max(range[1], a)};
+  }
+  return range;
+}
+
+class SurfaceFit {
+ public:
+  SurfaceFit(const TriMesh& input, TriMesh& remesh)
+      : input_(input),
+        remesh_(remesh),
+        inputQuery_(input),
+        locked_(remesh.n_vertices(), 0),
+        moved_(remesh.n_vertices(), 0) {
+    for (const auto v : remesh_.vertices())
+      locked_[v.idx()] = remesh_.is_boundary(v) || remesh_.is_isolated(v);
+    for (const auto v : input_.vertices())
+      if (!input_.is_isolated(v)) inputPoints_.push_back(toEigen(input_.point(v)));
+  }
+
+  /// Assigns the input points to their closest remesh triangles, then one round of feature
+  /// snapping (see surface_fit.h; none when snapDistance ≤ 0); returns the number of moves.
+  long long snapFeatures(double snapDistance) {
+    assignInputPoints();
+    if (snapDistance <= 0.0) return 0;
+    struct Candidate {
+      double distance;
+      int point;
+    };
+    std::vector<Candidate> candidates;
+    for (std::size_t i = 0; i < inputPoints_.size(); ++i)
+      if (nearest_[i].distance > snapDistance * faceEdgeLength(nearest_[i].face))
+        candidates.push_back({nearest_[i].distance, static_cast<int>(i)});
+    std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+      return a.distance > b.distance || (a.distance == b.distance && a.point < b.point);
+    });
+    // A move changes the fan of the vertex and its neighbours' triangles: points whose closest
+    // triangle touches a moved vertex wait for the next round's distances.
+    std::vector<char> touched(remesh_.n_vertices(), 0);
+    long long moves = 0;
+    for (const auto& candidate : candidates) {
+      const auto face = remesh_.face_handle(nearest_[candidate.point].face);
+      const Vec3& target = inputPoints_[candidate.point];
+      std::vector<std::pair<double, SVH>> corners;
+      bool stale = false;
+      for (const auto v : OpenMesh::make_smart(face, remesh_).vertices()) {
+        stale = stale || touched[v.idx()];
+        corners.push_back({(position(v) - target).norm(), v});
+      }
+      if (stale) continue;
+      std::sort(corners.begin(), corners.end(), [](const auto& a, const auto& b) {
+        return a.first < b.first || (a.first == b.first && a.second.idx() < b.second.idx());
+      });
+      const double reach = kSnapReach * faceEdgeLength(face.idx());
+      for (const auto& [distance, v] : corners) {
+        if (locked_[v.idx()] || distance > reach) continue;
+        const auto range = fanAngleRange(v, target);
+        if (!(range[0] >= kSnapMinAngle && range[1] <= kSnapMaxAngle)) continue;
+        if (!(fanDeviation(v, target) < fanDeviation(v, position(v)))) continue;
+        remesh_.set_point(v, toOpenMesh(target));
+        moved_[v.idx()] = 1;
+        locked_[v.idx()] = 1;
+        touched[v.idx()] = 1;
+        for (const auto w : v.vertices()) touched[w.idx()] = 1;
+        ++moves;
+        break;
+      }
+    }
+    return moves;
+  }
+
+  /// One pass of smoothing of poor triangles (see surface_fit.h), after snapFeatures (whose
+  /// assignment of input points it uses); returns the number of moves.
+  long long smoothPoorTriangles() {
+    std::vector<char> poorCorner(remesh_.n_vertices(), 0);
+    for (const auto f : remesh_.faces()) {
+      const auto range = angleRange(facePositions(f, SVH(), Vec3::Zero()));
+      if (range[0] < kPoorMinAngle || range[1] > kPoorMaxAngle)
+        for (const auto v : f.vertices()) poorCorner[v.idx()] = !locked_[v.idx()];
+    }
+    long long moves = 0;
+    for (const auto v : remesh_.vertices()) {
+      if (!poorCorner[v.idx()]) continue;
+      const Vec3 current = position(v);
+      Vec3 centroid = Vec3::Zero();
+      double count = 0.0;
+      for (const auto w : v.vertices()) centroid += position(w), count += 1.0;
+      centroid /= count;
+      const double allowed =
+          std::max(fanDeviation(v, current), kSmoothingDeviation * vertexEdgeLength(v));
+      double best = angleBadness(v, current);
+      Vec3 bestPosition = current;
+      for (const double t : {1.0, 0.75, 0.5, 0.25}) {
+        const Vec3 candidate = inputQuery_.closest(current + t * (centroid - current)).point;
+        const double badness = angleBadness(v, candidate);
+        if (badness < best && fanDeviation(v, candidate) <= allowed) {
+          best = badness;
+          bestPosition = candidate;
+        }
+      }
+      if (bestPosition != current) {
+        remesh_.set_point(v, toOpenMesh(bestPosition));
+        moved_[v.idx()] = 1;
+        ++moves;
+      }
+    }
+    return moves;
+  }
+
+ private:
+  const TriMesh& input_;
+  TriMesh& remesh_;
+  const ClosestPointQuery inputQuery_;
+  std::vector<char> locked_;  ///< per remesh vertex: boundary, isolated or snapped
+  std::vector<char> moved_;   ///< per remesh vertex: moved since the last assignInputPoints
+  std::vector<Vec3> inputPoints_;
+  /// Per input point: its closest remesh triangle (refreshed by assignInputPoints).
+  std::vector<ClosestPointQuery::Result> nearest_;
+  /// Per remesh face: the input points whose closest remesh triangle it is.
+  std::vector<std::vector<int>> facePoints_;
+
+  Vec3 position(OpenMesh::VertexHandle v) const { return toEigen(remesh_.point(v)); }
+
+  /// Mean edge length of a remesh face.
+  double faceEdgeLength(int face) const {
+    double sum = 0.0;
+    for (const auto h : OpenMesh::make_smart(remesh_.face_handle(face), remesh_).halfedges())
+      sum += remesh_.calc_edge_length(h);
+    return sum / 3.0;
+  }
+
+  /// Mean length of a remesh vertex's edges.
+  double vertexEdgeLength(SVH v) const {
+    double sum = 0.0, count = 0.0;
+    for (const auto h : v.outgoing_halfedges()) sum += remesh_.calc_edge_length(h), count += 1.0;
+    return count > 0.0 ? sum / count : 0.0;
+  }
+
+  /// The corners of face f, with vertex `moved` (if valid) at `movedTo`.
+  std::array<Vec3, 3> facePositions(OpenMesh::SmartFaceHandle f, SVH moved,
+                                    const Vec3& movedTo) const {
+    std::array<Vec3, 3> p;
+    int k = 0;
+    for (const auto w : f.vertices()) p[k++] = w == moved ? movedTo : position(w);
+    return p;
+  }
+
+  /// Closest remesh triangle of every input point, from a BVH of the remesh as it is now. After
+  /// the first call only the points whose triangle has a moved corner are queried again (moves
+  /// elsewhere can only bring a triangle closer: the distances are upper bounds).
+  void assignInputPoints() {
+    const ClosestPointQuery remeshQuery(remesh_);
+    const bool all = nearest_.empty();
+    nearest_.resize(inputPoints_.size());
+    for (std::size_t i = 0; i < inputPoints_.size(); ++i) {
+      bool changed = all;
+      if (!all)
+        for (const auto v :
+             OpenMesh::make_smart(remesh_.face_handle(nearest_[i].face), remesh_).vertices())
+          changed = changed || moved_[v.idx()];
+      // The connectivity never changes: the previous closest triangle seeds the search.
+      if (changed) nearest_[i] = remeshQuery.closest(inputPoints_[i], all ? -1 : nearest_[i].face);
+    }
+    std::fill(moved_.begin(), moved_.end(), 0);
+    facePoints_.assign(remesh_.n_faces(), {});
+    for (std::size_t i = 0; i < inputPoints_.size(); ++i)
+      facePoints_[nearest_[i].face].push_back(static_cast<int>(i));
+  }
+
+  /// Smallest and largest angle of v's triangles with v at p; {0, 180} when a triangle turns by
+  /// more than 60° (or degenerates).
+  std::array<double, 2> fanAngleRange(SVH v, const Vec3& p) const {
+    std::array<double, 2> range{180.0, 0.0};
+    for (const auto f : v.faces()) {
+      const auto before = facePositions(f, SVH(), Vec3::Zero());
+      const auto after = facePositions(f, v, p);
+      const Vec3 n0 = (before[1] - before[0]).cross(before[2] - before[0]).normalized();
+      const Vec3 n1 = (after[1] - after[0]).cross(after[2] - after[0]).normalized();
+      if (!(n0.dot(n1) > kMinNormalCosine)) return {0.0, 180.0};
+      const auto r = angleRange(after);
+      range = {std::min(range[0], r[0]), std::max(range[1], r[1])};
+    }
+    return range;
+  }
+
+  /// Largest deviation of an angle of v's triangles from 60° with v at p.
+  double angleBadness(SVH v, const Vec3& p) const {
+    const auto range = fanAngleRange(v, p);
+    return std::max(60.0 - range[0], range[1] - 60.0);
+  }
+
+  /// Local deviation between v's fan (v at p) and the input (see surface_fit.h).
+  double fanDeviation(SVH v, const Vec3& p) const {
+    double deviation = 0.0;
+    std::vector<std::array<Vec3, 3>> fan;
+    for (const auto f : v.faces()) fan.push_back(facePositions(f, v, p));
+    for (const auto f : v.faces())
+      for (const int i : facePoints_[f.idx()]) {
+        const Vec3& q = inputPoints_[i];
+        double d = std::numeric_limits<double>::infinity();
+        for (const auto& t : fan)
+          d = std::min(d, (closestPointOnTriangle(q, t[0], t[1], t[2]) - q).norm());
+        deviation = std::max(deviation, d);
+      }
+    for (const auto& t : fan) {
+      const std::array<Vec3, 4> samples{(t[0] + t[1] + t[2]) / 3.0, (p + t[0]) / 2.0,
+                                        (p + t[1]) / 2.0, (p + t[2]) / 2.0};
+      for (const Vec3& s : samples)
+        deviation = std::max(deviation, inputQuery_.closest(s).distance);
+    }
+    return deviation;
+  }
+};
+
+}  // namespace
+
+SurfaceFitCounts fitRemeshToSurface(const TriMesh& input, TriMesh& remesh,
+                                    double featureSnapDistance, int rounds) {
+  SurfaceFitCounts counts;
+  if (input.n_faces() == 0 || remesh.n_faces() == 0) return counts;
+  SurfaceFit fit(input, remesh);
+  for (int round = 0; round < rounds; ++round) {
+    const long long snapped = fit.snapFeatures(featureSnapDistance);
+    const long long smoothed = fit.smoothPoorTriangles();
+    counts.snapped += snapped;
+    counts.smoothed += smoothed;
+    if (snapped + smoothed == 0) break;
+  }
+  return counts;
+}
+
+}  // namespace hexcover::extract_detail

@@ -1,0 +1,36 @@
+#pragma once
+// Fitting the extracted remesh to the input surface (internal to core/extract): vertices move
+// over the input surface, the connectivity stays. Two moves, both kept only when they do not
+// raise the local deviation between the remesh and the input:
+//
+// - Feature snapping: an input vertex farther than `featureSnapDistance` local edge lengths from
+//   the remesh (a sharp crease or a thin tip that the lattice cuts off) pulls the nearest corner of
+//   its closest remesh triangle onto itself, when that corner is within `kSnapReach` edge lengths
+//   and its triangles keep their angles in [kSnapMinAngle, kSnapMaxAngle].
+// - Smoothing of poor triangles: a corner of a triangle with an angle below kPoorMinAngle or above
+//   kPoorMaxAngle (next to hole fills, folds and strips) moves towards the centroid of its
+//   neighbours, projected onto the input, when that lowers the largest deviation of its
+//   triangles' angles from 60°.
+//
+// The local deviation of a vertex's fan is the largest of (a) the distances from the input
+// vertices whose closest remesh triangle is in the fan to the fan, and (b) the distances from the
+// fan's triangle centroids and edge midpoints to the input. Boundary vertices are never moved
+// (they lie on the input boundary; see boundary.h for their slides). Deterministic.
+
+#include "core/mesh/mesh.h"
+
+namespace hexcover::extract_detail {
+
+/// Counts of what fitRemeshToSurface moved.
+struct SurfaceFitCounts {
+  long long snapped = 0;   ///< vertices moved onto an input feature
+  long long smoothed = 0;  ///< vertex moves that opened up poor triangles
+};
+
+/// Fits `remesh` (vertices on the surface of `input`) to `input` by feature snapping and smoothing
+/// of poor triangles, alternating for up to `rounds` rounds while either moves a vertex.
+/// featureSnapDistance ≤ 0 disables snapping.
+SurfaceFitCounts fitRemeshToSurface(const TriMesh& input, TriMesh& remesh,
+                                    double featureSnapDistance, int rounds = 4);
+
+}  // namespace hexcover::extract_detail

@@ -1,0 +1,143 @@
+// Fitting the remesh to the input surface (core/extract/surface_fit.h): feature snapping onto a
+// sharp ridge and smoothing of a poor triangle on a sphere, on meshes generated here.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "core/extract/surface_fit.h"
+#include "core/geometry/closest_point.h"
+#include "core/mesh/primitives.h"
+
+namespace hexcover::extract_detail {
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+
+constexpr double kRidgeX = 2.35;
+
+/// Height of a roof with a sharp ridge along x = kRidgeX (slopes ±1: a 90° dihedral angle).
+double roof(double x) { return -std::abs(x - kRidgeX); }
+
+/// The roof over [0, 5.5] × [0, 5.2] as a fine regular grid (110 × 104 cells) with a row of
+/// vertices on the ridge.
+TriMesh makeRoof() {
+  TriMesh mesh;
+  constexpr int nx = 110, ny = 104;
+  std::vector<TriMesh::VertexHandle> handle;
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) {
+      const double x = 5.5 * i / nx, y = 5.2 * j / ny;
+      handle.push_back(mesh.add_vertex({x, y, roof(x)}));
+    }
+  const auto at = [&](int i, int j) { return handle[j * (nx + 1) + i]; };
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      mesh.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+      mesh.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+    }
+  return mesh;
+}
+
+/// Largest distance from the points to the mesh.
+double largestDistance(const std::vector<Vec3>& points, const TriMesh& mesh) {
+  const ClosestPointQuery query(mesh);
+  double largest = 0.0;
+  for (const Vec3& p : points) largest = std::max(largest, query.closest(p).distance);
+  return largest;
+}
+
+std::vector<std::array<int, 3>> faceCorners(const TriMesh& mesh) {
+  std::vector<std::array<int, 3>> corners;
+  for (const auto f : mesh.faces()) {
+    const auto h = f.halfedge();
+    corners.push_back({h.from().idx(), h.to().idx(), h.next().to().idx()});
+  }
+  return corners;
+}
+
+double smallestAngleDegrees(const TriMesh& mesh) {
+  double smallest = 180.0;
+  for (const auto f : mesh.faces()) {
+    std::array<Vec3, 3> p;
+    int k = 0;
+    for (const auto v : f.vertices()) p[k++] = toEigen(mesh.point(v));
+    for (int j = 0; j < 3; ++j) {
+      const Vec3 u = p[(j + 1) % 3] - p[j], w = p[(j + 2) % 3] - p[j];
+      smallest = std::min(smallest, std::atan2(u.cross(w).norm(), u.dot(w)) * 180.0 / M_PI);
+    }
+  }
+  return smallest;
+}
+
+TEST(SurfaceFit, SnapsVerticesOntoASharpRidgeThatTheCoarseMeshCutsOff) {
+  const TriMesh input = makeRoof();
+  // A coarse equilateral grid (edge 1) lifted onto the roof: its vertices lie on the surface but
+  // none on the ridge, so its triangles cut the ridge off.
+  TriMesh remesh = makeEquilateralGrid(6, 7);
+  for (const auto v : remesh.vertices()) {
+    auto p = remesh.point(v);
+    p[2] = roof(p[0]);
+    remesh.set_point(v, p);
+  }
+  const TriMesh before = remesh;
+  // The ridge away from the remesh's jagged boundary.
+  std::vector<Vec3> ridge;
+  for (const auto v : input.vertices()) {
+    const Vec3 p = toEigen(input.point(v));
+    if (std::abs(p.x() - kRidgeX) < 1e-9 && p.y() > 1.0 && p.y() < 4.2) ridge.push_back(p);
+  }
+  ASSERT_FALSE(ridge.empty());
+  const double cutOff = largestDistance(ridge, remesh);
+  ASSERT_GT(cutOff, 0.1) << "the coarse mesh should miss the ridge";
+
+  const SurfaceFitCounts counts = fitRemeshToSurface(input, remesh, 0.1);
+  EXPECT_GT(counts.snapped, 0);
+  EXPECT_LT(largestDistance(ridge, remesh), 0.5 * cutOff);
+  // Same triangles; every vertex still on the roof; boundary vertices where they were.
+  EXPECT_EQ(faceCorners(remesh), faceCorners(before));
+  for (const auto v : remesh.vertices()) {
+    const auto p = remesh.point(v);
+    EXPECT_NEAR(p[2], roof(p[0]), 1e-12);
+    if (remesh.is_boundary(v)) EXPECT_EQ(p, before.point(v));
+  }
+  EXPECT_GE(smallestAngleDegrees(remesh), 20.0);
+}
+
+TEST(SurfaceFit, SmoothsAPoorTriangleAndKeepsTheVertexOnTheSurface) {
+  const TriMesh input = makeIcosphere(5);
+  TriMesh remesh = makeIcosphere(2);
+  const ClosestPointQuery onInput(input);
+  for (const auto v : remesh.vertices())
+    remesh.set_point(v, toOpenMesh(onInput.closest(toEigen(remesh.point(v))).point));
+  // Pull one regular vertex 60% of the way towards a neighbour (back onto the input surface).
+  const auto moved = *std::find_if(remesh.vertices().begin(), remesh.vertices().end(),
+                                   [&](auto v) { return v.valence() == 6; });
+  const Vec3 from = toEigen(remesh.point(moved));
+  const Vec3 towards = toEigen(remesh.point(*moved.vertices().begin()));
+  remesh.set_point(moved, toOpenMesh(onInput.closest(from + 0.6 * (towards - from)).point));
+  const double poor = smallestAngleDegrees(remesh);
+  ASSERT_LT(poor, 25.0);
+
+  const SurfaceFitCounts counts = fitRemeshToSurface(input, remesh, 0.0);
+  EXPECT_EQ(counts.snapped, 0) << "snapping is off";
+  EXPECT_GT(counts.smoothed, 0);
+  EXPECT_GT(smallestAngleDegrees(remesh), 40.0) << "was " << poor;
+  for (const auto v : remesh.vertices())
+    EXPECT_LT(onInput.closest(toEigen(remesh.point(v))).distance, 1e-12);
+}
+
+TEST(SurfaceFit, LeavesAnAlreadyGoodMeshAlone) {
+  // An icosphere against itself: no input point is away from the remesh, no triangle is poor.
+  const TriMesh input = makeIcosphere(3);
+  TriMesh remesh = input;
+  const SurfaceFitCounts counts = fitRemeshToSurface(input, remesh, 0.35);
+  EXPECT_EQ(counts.snapped, 0);
+  EXPECT_EQ(counts.smoothed, 0);
+  for (const auto v : remesh.vertices()) EXPECT_EQ(remesh.point(v), input.point(v));
+}
+
+}  // namespace
+}  // namespace hexcover::extract_detail
