@@ -10,6 +10,7 @@
 
 #include "core/common/error.h"
 #include "core/extract/boundary.h"
+#include "core/extract/boundary_zone.h"
 #include "core/extract/exact_lattice.h"
 #include "core/extract/surface_fit.h"
 
@@ -780,6 +781,14 @@ void keepUncoveredComponents(const TriMesh& mesh, const std::vector<int>& faceCo
 /// would make a vertex or edge non-manifold) are counted, and the holes they leave (boundary
 /// loops through no vertex of the output's boundary) are closed by a fan around the loop's
 /// centroid, as in step 4.
+/// Median edge length of a mesh (the lattice's, before the boundary zone is remeshed).
+double medianEdgeLength(const TriMesh& mesh) {
+  std::vector<double> lengths;
+  lengths.reserve(mesh.n_edges());
+  for (const auto e : mesh.edges()) lengths.push_back(mesh.calc_edge_length(e));
+  return median(std::move(lengths));
+}
+
 TriMesh buildMesh(const Assembly& out, ExtractionReport& report) {
   TriMesh result;
   std::vector<VH> handle(out.positions.size());
@@ -883,13 +892,23 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     keepUncoveredComponents(mesh, faceComponent, componentCount, out, report);
     result.triangles = buildMesh(out, report);
   }
-  if (options.fitToSurface) {
+  {
     ScopedTimer timer(report.timings, "surface fit");
     context.report("extract", 0.8);
     context.throwIfCanceled();
-    const auto counts = extract_detail::fitRemeshToSurface(mesh, result.triangles, options.featureSnapDistance);
-    report.featureSnaps = counts.snapped;
-    report.smoothedVertices = counts.smoothed;
+    const ClosestPointQuery inputQuery(mesh);
+    if (options.boundary == BoundaryMode::Follow && result.triangles.n_faces() > 0) {
+      const auto counts = extract_detail::improveBoundaryZone(inputQuery, result.triangles,
+                                                              medianEdgeLength(result.triangles));
+      report.zoneFlips = counts.flips;
+      report.zoneSmoothed = counts.smoothed;
+    }
+    if (options.fitToSurface && result.triangles.n_faces() > 0) {
+      const auto counts = extract_detail::fitRemeshToSurface(mesh, inputQuery, result.triangles,
+                                                             options.featureSnapDistance);
+      report.featureSnaps = counts.snapped;
+      report.smoothedVertices = counts.smoothed;
+    }
   }
   {
     ScopedTimer timer(report.timings, "hexagonal dual");

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "core/extract/fan_geometry.h"
 #include "core/geometry/closest_point.h"
 
 namespace hexcover::extract_detail {
@@ -26,31 +27,12 @@ constexpr double kPoorMaxAngle = 110.0;
 /// Smoothing may raise a fan's local deviation up to this many local edge lengths (flat regions:
 /// the projection onto the input moves the fan by far less).
 constexpr double kSmoothingDeviation = 0.1;
-/// A moved triangle's normal must stay within acos(0.5) = 60° of its normal before the move.
-constexpr double kMinNormalCosine = 0.5;
-
-/// Angle at corner a of triangle (a, b, c), in degrees.
-double angleAt(const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 u = b - a, w = c - a;
-  return std::atan2(u.cross(w).norm(), u.dot(w)) * 180.0 / M_PI;
-}
-
-/// The smallest and largest angle of triangle (p0, p1, p2).
-std::array<double, 2> angleRange(const std::array<Vec3, 3>& p) {
-  std::array<double, 2> range{180.0, 0.0};
-  for (int j = 0; j < 3; ++j) {
-    const double a = angleAt(p[j], p[(j + 1) % 3], p[(j + 2) % 3]);
-    range = {std::min(range[0], a), std::max(range[1], a)};
-  }
-  return range;
-}
-
 class SurfaceFit {
  public:
-  SurfaceFit(const TriMesh& input, TriMesh& remesh)
+  SurfaceFit(const TriMesh& input, const ClosestPointQuery& inputQuery, TriMesh& remesh)
       : input_(input),
         remesh_(remesh),
-        inputQuery_(input),
+        inputQuery_(inputQuery),
         locked_(remesh.n_vertices(), 0),
         moved_(remesh.n_vertices(), 0) {
     for (const auto v : remesh_.vertices())
@@ -95,7 +77,7 @@ class SurfaceFit {
       const double reach = kSnapReach * faceEdgeLength(face.idx());
       for (const auto& [distance, v] : corners) {
         if (locked_[v.idx()] || distance > reach) continue;
-        const auto range = fanAngleRange(v, target);
+        const auto range = fanAngleRange(remesh_, v, target);
         if (!(range[0] >= kSnapMinAngle && range[1] <= kSnapMaxAngle)) continue;
         if (!(fanDeviation(v, target) < fanDeviation(v, position(v)))) continue;
         remesh_.set_point(v, toOpenMesh(target));
@@ -115,7 +97,8 @@ class SurfaceFit {
   long long smoothPoorTriangles() {
     std::vector<char> poorCorner(remesh_.n_vertices(), 0);
     for (const auto f : remesh_.faces()) {
-      const auto range = angleRange(facePositions(f, SVH(), Vec3::Zero()));
+      const auto range =
+          angleRange(facePositions(remesh_, f, OpenMesh::VertexHandle(), Vec3::Zero()));
       if (range[0] < kPoorMinAngle || range[1] > kPoorMaxAngle)
         for (const auto v : f.vertices()) poorCorner[v.idx()] = !locked_[v.idx()];
     }
@@ -129,11 +112,11 @@ class SurfaceFit {
       centroid /= count;
       const double allowed =
           std::max(fanDeviation(v, current), kSmoothingDeviation * vertexEdgeLength(v));
-      double best = angleBadness(v, current);
+      double best = fanAngleBadness(remesh_, v, current);
       Vec3 bestPosition = current;
       for (const double t : {1.0, 0.75, 0.5, 0.25}) {
         const Vec3 candidate = inputQuery_.closest(current + t * (centroid - current)).point;
-        const double badness = angleBadness(v, candidate);
+        const double badness = fanAngleBadness(remesh_, v, candidate);
         if (badness < best && fanDeviation(v, candidate) <= allowed) {
           best = badness;
           bestPosition = candidate;
@@ -151,7 +134,7 @@ class SurfaceFit {
  private:
   const TriMesh& input_;
   TriMesh& remesh_;
-  const ClosestPointQuery inputQuery_;
+  const ClosestPointQuery& inputQuery_;
   std::vector<char> locked_;  ///< per remesh vertex: boundary, isolated or snapped
   std::vector<char> moved_;   ///< per remesh vertex: moved since the last assignInputPoints
   std::vector<Vec3> inputPoints_;
@@ -177,15 +160,6 @@ class SurfaceFit {
     return count > 0.0 ? sum / count : 0.0;
   }
 
-  /// The corners of face f, with vertex `moved` (if valid) at `movedTo`.
-  std::array<Vec3, 3> facePositions(OpenMesh::SmartFaceHandle f, SVH moved,
-                                    const Vec3& movedTo) const {
-    std::array<Vec3, 3> p;
-    int k = 0;
-    for (const auto w : f.vertices()) p[k++] = w == moved ? movedTo : position(w);
-    return p;
-  }
-
   /// Closest remesh triangle of every input point, from a BVH of the remesh as it is now. After
   /// the first call only the points whose triangle has a moved corner are queried again (moves
   /// elsewhere can only bring a triangle closer: the distances are upper bounds).
@@ -208,33 +182,11 @@ class SurfaceFit {
       facePoints_[nearest_[i].face].push_back(static_cast<int>(i));
   }
 
-  /// Smallest and largest angle of v's triangles with v at p; {0, 180} when a triangle turns by
-  /// more than 60° (or degenerates).
-  std::array<double, 2> fanAngleRange(SVH v, const Vec3& p) const {
-    std::array<double, 2> range{180.0, 0.0};
-    for (const auto f : v.faces()) {
-      const auto before = facePositions(f, SVH(), Vec3::Zero());
-      const auto after = facePositions(f, v, p);
-      const Vec3 n0 = (before[1] - before[0]).cross(before[2] - before[0]).normalized();
-      const Vec3 n1 = (after[1] - after[0]).cross(after[2] - after[0]).normalized();
-      if (!(n0.dot(n1) > kMinNormalCosine)) return {0.0, 180.0};
-      const auto r = angleRange(after);
-      range = {std::min(range[0], r[0]), std::max(range[1], r[1])};
-    }
-    return range;
-  }
-
-  /// Largest deviation of an angle of v's triangles from 60° with v at p.
-  double angleBadness(SVH v, const Vec3& p) const {
-    const auto range = fanAngleRange(v, p);
-    return std::max(60.0 - range[0], range[1] - 60.0);
-  }
-
   /// Local deviation between v's fan (v at p) and the input (see surface_fit.h).
   double fanDeviation(SVH v, const Vec3& p) const {
     double deviation = 0.0;
     std::vector<std::array<Vec3, 3>> fan;
-    for (const auto f : v.faces()) fan.push_back(facePositions(f, v, p));
+    for (const auto f : v.faces()) fan.push_back(facePositions(remesh_, f, v, p));
     for (const auto f : v.faces())
       for (const int i : facePoints_[f.idx()]) {
         const Vec3& q = inputPoints_[i];
@@ -255,11 +207,11 @@ class SurfaceFit {
 
 }  // namespace
 
-SurfaceFitCounts fitRemeshToSurface(const TriMesh& input, TriMesh& remesh,
-                                    double featureSnapDistance, int rounds) {
+SurfaceFitCounts fitRemeshToSurface(const TriMesh& input, const ClosestPointQuery& inputQuery,
+                                    TriMesh& remesh, double featureSnapDistance, int rounds) {
   SurfaceFitCounts counts;
   if (input.n_faces() == 0 || remesh.n_faces() == 0) return counts;
-  SurfaceFit fit(input, remesh);
+  SurfaceFit fit(input, inputQuery, remesh);
   for (int round = 0; round < rounds; ++round) {
     const long long snapped = fit.snapFeatures(featureSnapDistance);
     const long long smoothed = fit.smoothPoorTriangles();

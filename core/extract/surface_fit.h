@@ -17,6 +17,7 @@
 // fan's triangle centroids and edge midpoints to the input. Boundary vertices are never moved
 // (they lie on the input boundary; see boundary.h for their slides). Deterministic.
 
+#include "core/geometry/closest_point.h"
 #include "core/mesh/mesh.h"
 
 namespace hexcover::extract_detail {
@@ -27,10 +28,10 @@ struct SurfaceFitCounts {
   long long smoothed = 0;  ///< vertex moves that opened up poor triangles
 };
 
-/// Fits `remesh` (vertices on the surface of `input`) to `input` by feature snapping and smoothing
-/// of poor triangles, alternating for up to `rounds` rounds while either moves a vertex.
-/// featureSnapDistance ≤ 0 disables snapping.
-SurfaceFitCounts fitRemeshToSurface(const TriMesh& input, TriMesh& remesh,
-                                    double featureSnapDistance, int rounds = 4);
+/// Fits `remesh` (vertices on the surface of `input`; `inputQuery` answers closest points on it)
+/// to `input` by feature snapping and smoothing of poor triangles, alternating for up to `rounds`
+/// rounds while either moves a vertex. featureSnapDistance ≤ 0 disables snapping.
+SurfaceFitCounts fitRemeshToSurface(const TriMesh& input, const ClosestPointQuery& inputQuery,
+                                    TriMesh& remesh, double featureSnapDistance, int rounds = 4);
 
 }  // namespace hexcover::extract_detail

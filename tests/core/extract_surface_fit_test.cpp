@@ -93,7 +93,7 @@ TEST(SurfaceFit, SnapsVerticesOntoASharpRidgeThatTheCoarseMeshCutsOff) {
   const double cutOff = largestDistance(ridge, remesh);
   ASSERT_GT(cutOff, 0.1) << "the coarse mesh should miss the ridge";
 
-  const SurfaceFitCounts counts = fitRemeshToSurface(input, remesh, 0.1);
+  const SurfaceFitCounts counts = fitRemeshToSurface(input, ClosestPointQuery(input), remesh, 0.1);
   EXPECT_GT(counts.snapped, 0);
   EXPECT_LT(largestDistance(ridge, remesh), 0.5 * cutOff);
   // Same triangles; every vertex still on the roof; boundary vertices where they were.
@@ -121,7 +121,7 @@ TEST(SurfaceFit, SmoothsAPoorTriangleAndKeepsTheVertexOnTheSurface) {
   const double poor = smallestAngleDegrees(remesh);
   ASSERT_LT(poor, 25.0);
 
-  const SurfaceFitCounts counts = fitRemeshToSurface(input, remesh, 0.0);
+  const SurfaceFitCounts counts = fitRemeshToSurface(input, onInput, remesh, 0.0);
   EXPECT_EQ(counts.snapped, 0) << "snapping is off";
   EXPECT_GT(counts.smoothed, 0);
   EXPECT_GT(smallestAngleDegrees(remesh), 40.0) << "was " << poor;
@@ -133,7 +133,7 @@ TEST(SurfaceFit, LeavesAnAlreadyGoodMeshAlone) {
   // An icosphere against itself: no input point is away from the remesh, no triangle is poor.
   const TriMesh input = makeIcosphere(3);
   TriMesh remesh = input;
-  const SurfaceFitCounts counts = fitRemeshToSurface(input, remesh, 0.35);
+  const SurfaceFitCounts counts = fitRemeshToSurface(input, ClosestPointQuery(input), remesh, 0.35);
   EXPECT_EQ(counts.snapped, 0);
   EXPECT_EQ(counts.smoothed, 0);
   for (const auto v : remesh.vertices()) EXPECT_EQ(remesh.point(v), input.point(v));

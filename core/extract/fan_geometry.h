@@ -1,0 +1,73 @@
+#pragma once
+// Angles and normals of a vertex's triangles with the vertex at a trial position (internal to
+// core/extract): the acceptance tests of the boundary-zone remeshing and the surface fit.
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "core/mesh/mesh.h"
+
+namespace hexcover::extract_detail {
+
+/// A moved triangle's normal must stay within acos(0.5) = 60° of its normal before the move.
+inline constexpr double kMinNormalCosine = 0.5;
+
+/// Angle at corner a of triangle (a, b, c), in degrees.
+inline double angleAt(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                      const Eigen::Vector3d& c) {
+  const Eigen::Vector3d u = b - a, w = c - a;
+  return std::atan2(u.cross(w).norm(), u.dot(w)) * 180.0 / M_PI;
+}
+
+/// The smallest and largest angle of triangle (p0, p1, p2), in degrees.
+inline std::array<double, 2> angleRange(const std::array<Eigen::Vector3d, 3>& p) {
+  std::array<double, 2> range{180.0, 0.0};
+  for (int j = 0; j < 3; ++j) {
+    const double a = angleAt(p[j], p[(j + 1) % 3], p[(j + 2) % 3]);
+    range = {std::min(range[0], a), std::max(range[1], a)};
+  }
+  return range;
+}
+
+/// Unit normal of triangle (p0, p1, p2) (zero for a degenerate one).
+inline Eigen::Vector3d triangleNormal(const std::array<Eigen::Vector3d, 3>& p) {
+  return (p[1] - p[0]).cross(p[2] - p[0]).normalized();
+}
+
+/// The corners of face f, with vertex `moved` (if valid) at `movedTo`.
+inline std::array<Eigen::Vector3d, 3> facePositions(const TriMesh& mesh,
+                                                    OpenMesh::SmartFaceHandle f,
+                                                    OpenMesh::VertexHandle moved,
+                                                    const Eigen::Vector3d& movedTo) {
+  std::array<Eigen::Vector3d, 3> p;
+  int k = 0;
+  for (const auto w : f.vertices()) p[k++] = w == moved ? movedTo : toEigen(mesh.point(w));
+  return p;
+}
+
+/// Smallest and largest angle of v's triangles with v at p; {0, 180} when a triangle turns by
+/// more than 60° (or degenerates).
+inline std::array<double, 2> fanAngleRange(const TriMesh& mesh, OpenMesh::SmartVertexHandle v,
+                                           const Eigen::Vector3d& p) {
+  std::array<double, 2> range{180.0, 0.0};
+  for (const auto f : v.faces()) {
+    const auto after = facePositions(mesh, f, v, p);
+    const Eigen::Vector3d before =
+        triangleNormal(facePositions(mesh, f, OpenMesh::VertexHandle(), p));
+    if (!(before.dot(triangleNormal(after)) > kMinNormalCosine)) return {0.0, 180.0};
+    const auto r = angleRange(after);
+    range = {std::min(range[0], r[0]), std::max(range[1], r[1])};
+  }
+  return range;
+}
+
+/// Largest deviation of an angle of v's triangles from 60° with v at p (≥ 120 when one turns).
+inline double fanAngleBadness(const TriMesh& mesh, OpenMesh::SmartVertexHandle v,
+                              const Eigen::Vector3d& p) {
+  const auto range = fanAngleRange(mesh, v, p);
+  return std::max(60.0 - range[0], range[1] - 60.0);
+}
+
+}  // namespace hexcover::extract_detail

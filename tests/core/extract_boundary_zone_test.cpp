@@ -1,0 +1,65 @@
+// Flips and smoothing next to the remesh boundary (core/extract/boundary_zone.h).
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "core/extract/boundary_zone.h"
+#include "core/extract/fan_geometry.h"
+#include "core/mesh/primitives.h"
+
+namespace hexcover::extract_detail {
+namespace {
+
+double smallestAngleDegrees(const TriMesh& mesh) {
+  double smallest = 180.0;
+  for (const auto f : mesh.faces())
+    smallest = std::min(smallest, angleRange(facePositions(mesh, f, OpenMesh::VertexHandle(),
+                                                           Eigen::Vector3d::Zero()))[0]);
+  return smallest;
+}
+
+/// Interior vertices of valence ≠ 6.
+int irregularInterior(const TriMesh& mesh) {
+  int count = 0;
+  for (const auto v : mesh.vertices()) count += !mesh.is_boundary(v) && v.valence() != 6;
+  return count;
+}
+
+TEST(BoundaryZone, FlipsBackTheEdgesThatMadeTheFrontIrregular) {
+  const TriMesh grid = makeEquilateralGrid(9, 9);
+  TriMesh remesh = grid;
+  // Flip one edge between two interior vertices next to the boundary: valences 5, 5, 7, 7 and
+  // 30° angles.
+  int flipped = 0;
+  for (const auto e : remesh.edges()) {
+    if (remesh.is_boundary(e)) continue;
+    const bool nextToBoundary = std::any_of(e.v0().vertices().begin(), e.v0().vertices().end(),
+                                            [&](auto w) { return remesh.is_boundary(w); });
+    if (!nextToBoundary || remesh.is_boundary(e.v0()) || remesh.is_boundary(e.v1()) ||
+        !remesh.is_flip_ok(e))
+      continue;
+    remesh.flip(e);
+    ++flipped;
+    break;
+  }
+  ASSERT_EQ(flipped, 1);
+  ASSERT_GT(irregularInterior(remesh), 0);
+  ASSERT_LT(smallestAngleDegrees(remesh), 31.0);
+
+  const BoundaryZoneCounts counts = improveBoundaryZone(ClosestPointQuery(grid), remesh, 1.0);
+  EXPECT_GE(counts.flips, 1);
+  EXPECT_EQ(irregularInterior(remesh), 0);
+  EXPECT_GT(smallestAngleDegrees(remesh), 59.9);
+  for (const auto v : remesh.vertices()) EXPECT_EQ(remesh.point(v), grid.point(v));
+}
+
+TEST(BoundaryZone, LeavesAClosedMeshAlone) {
+  const TriMesh sphere = makeIcosphere(2);
+  TriMesh remesh = sphere;
+  const BoundaryZoneCounts counts = improveBoundaryZone(ClosestPointQuery(sphere), remesh, 0.3);
+  EXPECT_EQ(counts.flips + counts.smoothed, 0);
+}
+
+}  // namespace
+}  // namespace hexcover::extract_detail
