@@ -77,6 +77,7 @@ nlohmann::json metricsDocument(const RemeshResult& result) {
                         {"holes_filled", r.holesFilled},
                         {"unmatched_boundary_loops", r.unmatchedBoundaryLoops},
                         {"components_kept", r.componentsKept},
+                        {"zone_collapses", r.zoneCollapses},
                         {"zone_flips", r.zoneFlips},
                         {"zone_smoothed", r.zoneSmoothed},
                         {"feature_snaps", r.featureSnaps},

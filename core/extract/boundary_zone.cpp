@@ -1,6 +1,7 @@
 #include "core/extract/boundary_zone.h"
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "core/extract/fan_geometry.h"
@@ -12,6 +13,10 @@ using Vec3 = Eigen::Vector3d;
 
 /// A flip never creates an edge longer than this many target lengths.
 constexpr double kLongEdge = 4.0 / 3.0;
+/// Edges shorter than this many target lengths are collapsed when that helps.
+constexpr double kShortEdge = 0.5;
+/// A boundary vertex where the boundary turns by more than this (degrees) is a corner: kept.
+constexpr double kCornerTurn = 30.0;
 /// A flip that improves the valences may lower the pair's smallest angle only down to this
 /// (degrees).
 constexpr double kFlipMinAngle = 25.0;
@@ -53,6 +58,24 @@ class BoundaryZone {
     return flips;
   }
 
+  /// Collapses edges shorter than kShortEdge target lengths into one end (see
+  /// mayRemoveAlong), when that lowers the largest deviation from 60° of the triangles around the
+  /// removed end without turning one by more than 60° or making an edge longer than kLongEdge.
+  long long collapseShortEdges() {
+    markZone();
+    long long collapses = 0;
+    for (const auto e : mesh_.edges()) {
+      if (mesh_.calc_edge_length(e) >= kShortEdge * length_) continue;
+      for (const auto h : {e.h0(), e.h1()})
+        if (mayRemoveAlong(h) && collapseHelps(h)) {
+          mesh_.collapse(h);
+          ++collapses;
+          break;
+        }
+    }
+    return collapses;
+  }
+
   /// Moves interior zone vertices (next to the boundary) towards their neighbours' centroid,
   /// projected onto the input, when that lowers the largest deviation of their triangles' angles
   /// from 60°.
@@ -91,6 +114,41 @@ class BoundaryZone {
         for (const auto w : v.vertices()) ring_[w.idx()] = std::min(ring_[w.idx()], 1);
   }
 
+  /// h's start may be removed by collapsing h: an interior vertex next to the boundary, or a
+  /// boundary vertex that is not a corner, along a boundary edge.
+  bool mayRemoveAlong(OpenMesh::SmartHalfedgeHandle h) const {
+    const auto from = h.from();
+    if (ring_[from.idx()] == 1) return true;
+    if (ring_[from.idx()] != 0 || !mesh_.is_boundary(h.edge())) return false;
+    // The boundary's turn at `from`: between the boundary edges into and out of it.
+    const auto out = from.halfedge();  // the outgoing boundary halfedge of a boundary vertex
+    const Vec3 before = position(from) - position(out.prev().from());
+    const Vec3 after = position(out.to()) - position(from);
+    return before.normalized().dot(after.normalized()) > std::cos(kCornerTurn * M_PI / 180.0);
+  }
+
+  bool collapseHelps(OpenMesh::SmartHalfedgeHandle h) const {
+    if (!mesh_.is_collapse_ok(h)) return false;
+    const auto from = h.from(), to = h.to();
+    const Vec3 target = position(to);
+    for (const auto w : from.vertices())
+      if ((position(w) - target).norm() > kLongEdge * length_) return false;
+    double before = 0.0, after = 0.0;
+    for (const auto f : from.faces()) {
+      const auto old = facePositions(mesh_, f, OpenMesh::VertexHandle(), target);
+      const auto oldRange = angleRange(old);
+      before = std::max({before, 60.0 - oldRange[0], oldRange[1] - 60.0});
+      bool removed = false;
+      for (const auto w : f.vertices()) removed = removed || w == to;
+      if (removed) continue;
+      const auto moved = facePositions(mesh_, f, from, target);
+      if (!(triangleNormal(old).dot(triangleNormal(moved)) > kMinNormalCosine)) return false;
+      const auto range = angleRange(moved);
+      after = std::max({after, 60.0 - range[0], range[1] - 60.0});
+    }
+    return after < before;
+  }
+
   /// An interior edge with an end on or next to the boundary.
   bool inZone(OpenMesh::SmartEdgeHandle e) const {
     return !mesh_.is_boundary(e) && std::min(ring_[e.v0().idx()], ring_[e.v1().idx()]) <= 1;
@@ -105,14 +163,25 @@ BoundaryZoneCounts improveBoundaryZone(const ClosestPointQuery& input, TriMesh& 
   const bool hasBoundary = std::any_of(remesh.vertices().begin(), remesh.vertices().end(),
                                        [&](auto v) { return remesh.is_boundary(v); });
   if (!hasBoundary || !(targetLength > 0.0)) return counts;
+  remesh.request_vertex_status();
+  remesh.request_edge_status();
+  remesh.request_halfedge_status();
+  remesh.request_face_status();
   BoundaryZone zone(input, remesh, targetLength);
   for (int i = 0; i < iterations; ++i) {
+    const long long collapses = zone.collapseShortEdges();
     const long long flips = zone.flipTowardsRegularValence();
     const long long moves = zone.smooth();
+    counts.collapses += collapses;
     counts.flips += flips;
     counts.smoothed += moves;
-    if (flips + moves == 0) break;
+    if (collapses + flips + moves == 0) break;
   }
+  remesh.garbage_collection();
+  remesh.release_vertex_status();
+  remesh.release_edge_status();
+  remesh.release_halfedge_status();
+  remesh.release_face_status();
   return counts;
 }
 

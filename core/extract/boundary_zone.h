@@ -1,13 +1,17 @@
 #pragma once
 // Improvement of the boundary zone (internal to core/extract): the triangles between the lattice
 // front and the input boundary, stitched from two polylines of unequal spacing, can have slivers
-// and vertices of high valence. Within the zone (the interior edges with an end on the boundary
-// or next to it) edges flip towards valence 6 (interior) and 4 (boundary), as in the isotropic
-// remeshing of Botsch and Kobbelt (2004), or towards a larger smallest angle, and the interior
-// vertices next to the boundary move towards their neighbours' centroid projected onto the input
-// when that lowers the largest deviation of their triangles' angles from 60°. Boundary vertices
-// and vertices farther inside never move; no flip turns a triangle by more than 60° or creates an
-// edge longer than 4/3 of the target length. The vertex count and the boundary stay.
+// and vertices of high valence. With operations of the isotropic remeshing of Botsch and Kobbelt
+// (2004), restricted to the boundary and the vertices next to it:
+// - edges shorter than half the target length collapse into one end when that lowers the largest
+//   deviation from 60° of the removed end's triangles (the removed end: an interior vertex next to
+//   the boundary, or a boundary vertex that is not a corner, along the boundary);
+// - interior edges with an end on or next to the boundary flip towards valence 6 (interior) and 4
+//   (boundary), or towards a larger smallest angle;
+// - interior vertices next to the boundary move towards their neighbours' centroid projected onto
+//   the input, when that lowers the largest deviation of their triangles' angles from 60°.
+// Boundary vertices never move and vertices farther inside are never touched; no operation turns
+// a triangle by more than 60° or creates an edge longer than 4/3 of the target length.
 
 #include "core/geometry/closest_point.h"
 #include "core/mesh/mesh.h"
@@ -15,13 +19,15 @@
 namespace hexcover::extract_detail {
 
 struct BoundaryZoneCounts {
+  long long collapses = 0;
   long long flips = 0;
   long long smoothed = 0;  ///< vertex moves
 };
 
 /// Improves the boundary zone of `remesh` (vertices on the input surface behind `input`; target
-/// edge length `targetLength` > 0) in up to `iterations` rounds of flips and smoothing, while
-/// either changes something. Deterministic. A mesh without boundary is left as it is.
+/// edge length `targetLength` > 0) in up to `iterations` rounds of collapses, flips and smoothing,
+/// while any changes something. Removed vertices are garbage-collected (indices change).
+/// Deterministic. A mesh without boundary is left as it is.
 BoundaryZoneCounts improveBoundaryZone(const ClosestPointQuery& input, TriMesh& remesh,
                                        double targetLength, int iterations = 4);
 

@@ -900,6 +900,7 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     if (options.boundary == BoundaryMode::Follow && result.triangles.n_faces() > 0) {
       const auto counts = extract_detail::improveBoundaryZone(inputQuery, result.triangles,
                                                               medianEdgeLength(result.triangles));
+      report.zoneCollapses = counts.collapses;
       report.zoneFlips = counts.flips;
       report.zoneSmoothed = counts.smoothed;
     }

@@ -27,9 +27,9 @@
 //    local edge length (keeping corners sharper than `sharpBoundaryAngle`) and the strip between
 //    it and the lattice front is triangulated, so the output boundary lies on the input boundary.
 // 6. Components of the input on which no lattice triangle fits are copied unchanged.
-// 7. Boundary zone (Follow mode, boundary_zone.h): edges next to the input boundary flip towards
-//    regular valence or larger angles and the vertices next to it are smoothed, which opens up
-//    thin triangles that stitching leaves.
+// 7. Boundary zone (Follow mode, boundary_zone.h): short edges on and next to the input boundary
+//    collapse, edges next to it flip towards regular valence or larger angles and the vertices
+//    next to it are smoothed, which opens up thin triangles that stitching leaves.
 // 8. Fit (surface_fit.h): vertices move over the input surface where the lattice cuts off a
 //    sharp crease or tip (feature snapping) or next to poor triangles (smoothing), when that does
 //    not raise the local deviation from the input; the connectivity stays.
@@ -88,7 +88,8 @@ struct ExtractionReport {
   long long holeTriangles = 0;         ///< triangles added to close them
   long long unmatchedBoundaryLoops = 0;  ///< input boundary loops without a single lattice front
   long long componentsKept = 0;        ///< input components too small for the lattice, copied
-  long long zoneFlips = 0;      ///< boundary zone (Follow mode): edges flipped (valence, angles)
+  long long zoneCollapses = 0;  ///< boundary zone (Follow mode): short edges collapsed
+  long long zoneFlips = 0;      ///< boundary zone: edges flipped (valence, angles)
   long long zoneSmoothed = 0;   ///< boundary zone: vertex moves next to the boundary
   long long featureSnaps = 0;          ///< vertices moved onto a sharp feature of the input
   long long smoothedVertices = 0;      ///< vertex moves that opened up poor triangles

@@ -54,11 +54,33 @@ TEST(BoundaryZone, FlipsBackTheEdgesThatMadeTheFrontIrregular) {
   for (const auto v : remesh.vertices()) EXPECT_EQ(remesh.point(v), grid.point(v));
 }
 
+TEST(BoundaryZone, CollapsesABoundarySampleThatCrowdsItsNeighbour) {
+  const TriMesh grid = makeEquilateralGrid(9, 9);
+  TriMesh remesh = grid;
+  // A boundary sample a tenth of an edge from a boundary vertex (away from the grid's corners):
+  // a 0.1-long boundary edge and a sliver.
+  const auto e = *std::find_if(remesh.edges().begin(), remesh.edges().end(), [&](auto edge) {
+    const auto p = remesh.point(edge.v0()), q = remesh.point(edge.v1());
+    return remesh.is_boundary(edge) && p[1] == 0.0 && q[1] == 0.0 && std::min(p[0], q[0]) == 3.0;
+  });
+  const auto p = remesh.point(e.v0()), q = remesh.point(e.v1());
+  const auto crowded = p[0] < q[0] ? p : q;
+  remesh.split(e, crowded + TriMesh::Point(0.1, 0.0, 0.0));
+  ASSERT_EQ(remesh.n_vertices(), grid.n_vertices() + 1);
+  ASSERT_LT(smallestAngleDegrees(remesh), 10.0);
+
+  const BoundaryZoneCounts counts = improveBoundaryZone(ClosestPointQuery(grid), remesh, 1.0);
+  EXPECT_EQ(counts.collapses, 1);
+  EXPECT_EQ(remesh.n_vertices(), grid.n_vertices());
+  EXPECT_GT(smallestAngleDegrees(remesh), 59.9);
+  EXPECT_EQ(irregularInterior(remesh), 0);
+}
+
 TEST(BoundaryZone, LeavesAClosedMeshAlone) {
   const TriMesh sphere = makeIcosphere(2);
   TriMesh remesh = sphere;
   const BoundaryZoneCounts counts = improveBoundaryZone(ClosestPointQuery(sphere), remesh, 0.3);
-  EXPECT_EQ(counts.flips + counts.smoothed, 0);
+  EXPECT_EQ(counts.collapses + counts.flips + counts.smoothed, 0);
 }
 
 }  // namespace
