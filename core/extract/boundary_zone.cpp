@@ -137,14 +137,14 @@ class BoundaryZone {
     for (const auto f : from.faces()) {
       const auto old = facePositions(mesh_, f, OpenMesh::VertexHandle(), target);
       const auto oldRange = angleRange(old);
-      before = std::max({before, 60.0 - oldRange[0], oldRange[1] - 60.0});
+      before = std::max(before, angleBadness(oldRange));
       bool removed = false;
       for (const auto w : f.vertices()) removed = removed || w == to;
       if (removed) continue;
       const auto moved = facePositions(mesh_, f, from, target);
       if (!(triangleNormal(old).dot(triangleNormal(moved)) > kMinNormalCosine)) return false;
       const auto range = angleRange(moved);
-      after = std::max({after, 60.0 - range[0], range[1] - 60.0});
+      after = std::max(after, angleBadness(range));
     }
     return after < before;
   }

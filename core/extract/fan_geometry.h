@@ -63,11 +63,17 @@ inline std::array<double, 2> fanAngleRange(const TriMesh& mesh, OpenMesh::SmartV
   return range;
 }
 
-/// Largest deviation of an angle of v's triangles from 60° with v at p (≥ 120 when one turns).
+/// How far an angle range strays from 60°, relative to the room the quality floors leave on each
+/// side (down to 20°, up to 130°): max((60 − min) / 40, (max − 60) / 70). 0 for equilateral
+/// triangles, 1 at a floor; a small angle and a large one weigh alike when equally near theirs.
+inline double angleBadness(const std::array<double, 2>& range) {
+  return std::max((60.0 - range[0]) / 40.0, (range[1] - 60.0) / 70.0);
+}
+
+/// angleBadness of v's triangles with v at p (≥ 1.5 when one turns by more than 60°).
 inline double fanAngleBadness(const TriMesh& mesh, OpenMesh::SmartVertexHandle v,
                               const Eigen::Vector3d& p) {
-  const auto range = fanAngleRange(mesh, v, p);
-  return std::max(60.0 - range[0], range[1] - 60.0);
+  return angleBadness(fanAngleRange(mesh, v, p));
 }
 
 }  // namespace hexcover::extract_detail

@@ -27,6 +27,9 @@ constexpr double kPoorMaxAngle = 110.0;
 /// Smoothing may raise a fan's local deviation up to this many local edge lengths (flat regions:
 /// the projection onto the input moves the fan by far less).
 constexpr double kSmoothingDeviation = 0.1;
+/// Smoothing's trial moves besides the centroid: directions, and steps in local edge lengths.
+constexpr int kTrialDirections = 8;
+constexpr std::array<double, 3> kTrialSteps{0.1, 0.2, 0.35};
 class SurfaceFit {
  public:
   SurfaceFit(const TriMesh& input, const ClosestPointQuery& inputQuery, TriMesh& remesh)
@@ -106,16 +109,12 @@ class SurfaceFit {
     for (const auto v : remesh_.vertices()) {
       if (!poorCorner[v.idx()]) continue;
       const Vec3 current = position(v);
-      Vec3 centroid = Vec3::Zero();
-      double count = 0.0;
-      for (const auto w : v.vertices()) centroid += position(w), count += 1.0;
-      centroid /= count;
       const double allowed =
           std::max(fanDeviation(v, current), kSmoothingDeviation * vertexEdgeLength(v));
       double best = fanAngleBadness(remesh_, v, current);
       Vec3 bestPosition = current;
-      for (const double t : {1.0, 0.75, 0.5, 0.25}) {
-        const Vec3 candidate = inputQuery_.closest(current + t * (centroid - current)).point;
+      for (const Vec3& trial : trialPositions(v)) {
+        const Vec3 candidate = inputQuery_.closest(trial).point;
         const double badness = fanAngleBadness(remesh_, v, candidate);
         if (badness < best && fanDeviation(v, candidate) <= allowed) {
           best = badness;
@@ -144,6 +143,32 @@ class SurfaceFit {
   std::vector<std::vector<int>> facePoints_;
 
   Vec3 position(OpenMesh::VertexHandle v) const { return toEigen(remesh_.point(v)); }
+
+  /// Where smoothing tries to put v (before projection onto the input): a quarter to all of the
+  /// way to its neighbours' centroid, and kTrialDirections directions in its tangent plane at
+  /// kTrialSteps fractions of its mean edge length.
+  std::vector<Vec3> trialPositions(SVH v) const {
+    const Vec3 current = position(v);
+    Vec3 centroid = Vec3::Zero(), normal = Vec3::Zero();
+    double count = 0.0;
+    for (const auto w : v.vertices()) centroid += position(w), count += 1.0;
+    centroid /= count;
+    for (const auto f : v.faces())
+      normal += triangleNormal(facePositions(remesh_, f, OpenMesh::VertexHandle(), current));
+    std::vector<Vec3> trials;
+    for (const double t : {1.0, 0.75, 0.5, 0.25})
+      trials.push_back(current + t * (centroid - current));
+    if (!(normal.norm() > 0.0)) return trials;
+    normal.normalize();
+    const Vec3 u = normal.unitOrthogonal(), w = normal.cross(u);
+    const double length = vertexEdgeLength(v);
+    for (int k = 0; k < kTrialDirections; ++k) {
+      const double angle = 2.0 * M_PI * k / kTrialDirections;
+      for (const double step : kTrialSteps)
+        trials.push_back(current + step * length * (std::cos(angle) * u + std::sin(angle) * w));
+    }
+    return trials;
+  }
 
   /// Mean edge length of a remesh face.
   double faceEdgeLength(int face) const {

@@ -8,9 +8,10 @@
 //   its closest remesh triangle onto itself, when that corner is within `kSnapReach` edge lengths
 //   and its triangles keep their angles in [kSnapMinAngle, kSnapMaxAngle].
 // - Smoothing of poor triangles: a corner of a triangle with an angle below kPoorMinAngle or above
-//   kPoorMaxAngle (next to hole fills, folds and strips) moves towards the centroid of its
-//   neighbours, projected onto the input, when that lowers the largest deviation of its
-//   triangles' angles from 60°.
+//   kPoorMaxAngle (next to hole fills, folds and strips) moves to the best of a few trial
+//   positions (towards the centroid of its neighbours, and 8 directions in its tangent plane),
+//   projected onto the input, when that lowers its triangles' angle badness (fan_geometry.h: the
+//   deviation from 60° relative to the 20° and 130° floors).
 //
 // The local deviation of a vertex's fan is the largest of (a) the distances from the input
 // vertices whose closest remesh triangle is in the fan to the fan, and (b) the distances from the
