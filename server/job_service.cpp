@@ -300,6 +300,9 @@ void JobService::runJob(const std::string& id) {
   }
 
   const double runSeconds = unixNow() - job.startedAt;
+  // Counted before the final state is stored, so that a client that sees the job finished also
+  // sees it in /metrics (outside mutex_: the metrics' gauges take it).
+  if (!requeue) metrics_.recordJobFinished(job.state, runSeconds);
   {
     const std::lock_guard lock(mutex_);
     active_.erase(id);
@@ -320,7 +323,6 @@ void JobService::runJob(const std::string& id) {
     log_.info("job_requeued", {{"job", id}, {"reason", "shutdown"}});
     return;
   }
-  metrics_.recordJobFinished(job.state, runSeconds);
   nlohmann::json fields = {
       {"job", id}, {"state", api::jobStateName(job.state)}, {"seconds", runSeconds}};
   if (!job.error.is_null()) fields["error"] = job.error.value("detail", "");
