@@ -82,6 +82,7 @@ nlohmann::json metricsDocument(const RemeshResult& result) {
                         {"zone_smoothed", r.zoneSmoothed},
                         {"feature_snaps", r.featureSnaps},
                         {"smoothed_vertices", r.smoothedVertices},
+                        {"relaxed_vertices", r.relaxedVertices},
                         {"non_manifold_faces_dropped", r.nonManifoldFacesDropped}};
   return json;
 }

@@ -909,6 +909,7 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
                                                              options.featureSnapDistance);
       report.featureSnaps = counts.snapped;
       report.smoothedVertices = counts.smoothed;
+      report.relaxedVertices = counts.relaxed;
     }
   }
   {

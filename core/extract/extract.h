@@ -93,6 +93,7 @@ struct ExtractionReport {
   long long zoneSmoothed = 0;   ///< boundary zone: vertex moves next to the boundary
   long long featureSnaps = 0;          ///< vertices moved onto a sharp feature of the input
   long long smoothedVertices = 0;      ///< vertex moves that opened up poor triangles
+  long long relaxedVertices = 0;       ///< relaxation moves (angles nearer 60°)
   long long nonManifoldVertices = 0;   ///< vertices with several fans, re-triangulated locally
   long long nonManifoldFacesDropped = 0;  ///< faces OpenMesh still refused (would be non-manifold)
   Timings timings;

@@ -27,6 +27,10 @@ constexpr double kPoorMaxAngle = 110.0;
 /// Smoothing may raise a fan's local deviation up to this many local edge lengths (flat regions:
 /// the projection onto the input moves the fan by far less).
 constexpr double kSmoothingDeviation = 0.1;
+/// Relaxation moves only vertices whose triangles' angles deviate from 60° by more than this RMS
+/// (degrees), in kRelaxPasses passes, halfway to their neighbours' centroid.
+constexpr double kRelaxMinRms = 5.0;
+constexpr int kRelaxPasses = 3;
 /// Smoothing's trial moves besides the centroid: directions, and steps in local edge lengths.
 constexpr int kTrialDirections = 8;
 constexpr std::array<double, 3> kTrialSteps{0.1, 0.2, 0.35};
@@ -130,6 +134,33 @@ class SurfaceFit {
     return moves;
   }
 
+  /// Relaxation (see surface_fit.h); returns the number of moves.
+  long long relax() {
+    long long moves = 0;
+    for (int pass = 0; pass < kRelaxPasses; ++pass) {
+      assignInputPoints();
+      for (const auto v : remesh_.vertices()) {
+        if (locked_[v.idx()]) continue;
+        const Vec3 current = position(v);
+        const double variance = fanAngleVariance(v, current);
+        if (variance < kRelaxMinRms * kRelaxMinRms * 3.0 * v.valence()) continue;
+        Vec3 centroid = Vec3::Zero();
+        double count = 0.0;
+        for (const auto w : v.vertices()) centroid += position(w), count += 1.0;
+        const Vec3 candidate = inputQuery_.closest(0.5 * (current + centroid / count)).point;
+        if (!(fanAngleVariance(v, candidate) < variance) ||
+            fanAngleBadness(remesh_, v, candidate) > fanAngleBadness(remesh_, v, current) ||
+            fanDeviation(v, candidate) >
+                std::max(fanDeviation(v, current), kSmoothingDeviation * vertexEdgeLength(v)))
+          continue;
+        remesh_.set_point(v, toOpenMesh(candidate));
+        moved_[v.idx()] = 1;
+        ++moves;
+      }
+    }
+    return moves;
+  }
+
  private:
   const TriMesh& input_;
   TriMesh& remesh_;
@@ -143,6 +174,19 @@ class SurfaceFit {
   std::vector<std::vector<int>> facePoints_;
 
   Vec3 position(OpenMesh::VertexHandle v) const { return toEigen(remesh_.point(v)); }
+
+  /// Sum over v's triangles of the squared deviations of their angles from 60° with v at p.
+  double fanAngleVariance(SVH v, const Vec3& p) const {
+    double sum = 0.0;
+    for (const auto f : v.faces()) {
+      const auto t = facePositions(remesh_, f, v, p);
+      for (int j = 0; j < 3; ++j) {
+        const double a = angleAt(t[j], t[(j + 1) % 3], t[(j + 2) % 3]) - 60.0;
+        sum += a * a;
+      }
+    }
+    return sum;
+  }
 
   /// Where smoothing tries to put v (before projection onto the input): a quarter to all of the
   /// way to its neighbours' centroid, and kTrialDirections directions in its tangent plane at
@@ -220,12 +264,14 @@ class SurfaceFit {
           d = std::min(d, (closestPointOnTriangle(q, t[0], t[1], t[2]) - q).norm());
         deviation = std::max(deviation, d);
       }
-    for (const auto& t : fan) {
-      const std::array<Vec3, 4> samples{(t[0] + t[1] + t[2]) / 3.0, (p + t[0]) / 2.0,
-                                        (p + t[1]) / 2.0, (p + t[2]) / 2.0};
-      for (const Vec3& s : samples)
-        deviation = std::max(deviation, inputQuery_.closest(s).distance);
-    }
+    // The moving parts of the fan: its triangles' centroids and the midpoints of v's edges.
+    // Queries start from the input face nearest p, which makes them short.
+    const int hint = inputQuery_.closest(p).face;
+    for (const auto& t : fan)
+      deviation =
+          std::max(deviation, inputQuery_.closest((t[0] + t[1] + t[2]) / 3.0, hint).distance);
+    for (const auto w : v.vertices())
+      deviation = std::max(deviation, inputQuery_.closest(0.5 * (p + position(w)), hint).distance);
     return deviation;
   }
 };
@@ -244,6 +290,7 @@ SurfaceFitCounts fitRemeshToSurface(const TriMesh& input, const ClosestPointQuer
     counts.smoothed += smoothed;
     if (snapped + smoothed == 0) break;
   }
+  counts.relaxed = fit.relax();
   return counts;
 }
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <vector>
 
+#include "core/extract/fan_geometry.h"
 #include "core/extract/surface_fit.h"
 #include "core/geometry/closest_point.h"
 #include "core/mesh/primitives.h"
@@ -101,7 +102,9 @@ TEST(SurfaceFit, SnapsVerticesOntoASharpRidgeThatTheCoarseMeshCutsOff) {
   for (const auto v : remesh.vertices()) {
     const auto p = remesh.point(v);
     EXPECT_NEAR(p[2], roof(p[0]), 1e-12);
-    if (remesh.is_boundary(v)) EXPECT_EQ(p, before.point(v));
+    if (remesh.is_boundary(v)) {
+      EXPECT_EQ(p, before.point(v));
+    }
   }
   EXPECT_GE(smallestAngleDegrees(remesh), 20.0);
 }
@@ -129,14 +132,59 @@ TEST(SurfaceFit, SmoothsAPoorTriangleAndKeepsTheVertexOnTheSurface) {
     EXPECT_LT(onInput.closest(toEigen(remesh.point(v))).distance, 1e-12);
 }
 
-TEST(SurfaceFit, LeavesAnAlreadyGoodMeshAlone) {
-  // An icosphere against itself: no input point is away from the remesh, no triangle is poor.
+/// Standard deviation of all corner angles (degrees).
+double angleSd(const TriMesh& mesh) {
+  double sum = 0.0, sumSquares = 0.0, count = 0.0;
+  for (const auto f : mesh.faces()) {
+    const auto p = facePositions(mesh, f, OpenMesh::VertexHandle(), Vec3::Zero());
+    for (int j = 0; j < 3; ++j) {
+      const double a = angleAt(p[j], p[(j + 1) % 3], p[(j + 2) % 3]);
+      sum += a, sumSquares += a * a, count += 1.0;
+    }
+  }
+  return std::sqrt(sumSquares / count - (sum / count) * (sum / count));
+}
+
+TEST(SurfaceFit, RelaxesAJitteredGridInItsPlane) {
+  const TriMesh input = makeEquilateralGrid(12, 12);
+  TriMesh remesh = input;
+  // Interior vertices jittered in the plane by up to 0.2 edge lengths (a fixed pattern).
+  int k = 0;
+  for (const auto v : remesh.vertices()) {
+    if (remesh.is_boundary(v)) continue;
+    ++k;
+    remesh.set_point(
+        v, remesh.point(v) + TriMesh::Point(0.2 * std::sin(1.7 * k), 0.2 * std::cos(2.3 * k), 0.0));
+  }
+  const TriMesh jittered = remesh;
+  const double before = angleSd(remesh);
+  ASSERT_GT(before, 8.0);
+
+  const SurfaceFitCounts counts = fitRemeshToSurface(input, ClosestPointQuery(input), remesh, 0.35);
+  EXPECT_EQ(counts.snapped, 0) << "the grid has no feature";
+  EXPECT_GT(counts.relaxed, 0);
+  EXPECT_LT(angleSd(remesh), 0.7 * before);
+  for (const auto v : remesh.vertices()) {
+    EXPECT_EQ(remesh.point(v)[2], 0.0) << "stays in the plane";
+    if (remesh.is_boundary(v)) {
+      EXPECT_EQ(remesh.point(v), jittered.point(v));
+    }
+  }
+}
+
+TEST(SurfaceFit, OnlyRelaxesAMeshThatMatchesTheInput) {
+  // An icosphere against itself: no input point is away from the remesh and no triangle is poor,
+  // so nothing snaps or smooths; relaxation may even out the angles (54°-72°) near the 12
+  // valence-5 vertices, over the input surface.
   const TriMesh input = makeIcosphere(3);
   TriMesh remesh = input;
-  const SurfaceFitCounts counts = fitRemeshToSurface(input, ClosestPointQuery(input), remesh, 0.35);
+  const ClosestPointQuery onInput(input);
+  const SurfaceFitCounts counts = fitRemeshToSurface(input, onInput, remesh, 0.35);
   EXPECT_EQ(counts.snapped, 0);
   EXPECT_EQ(counts.smoothed, 0);
-  for (const auto v : remesh.vertices()) EXPECT_EQ(remesh.point(v), input.point(v));
+  EXPECT_LE(angleSd(remesh), angleSd(input));
+  for (const auto v : remesh.vertices())
+    EXPECT_LT(onInput.closest(toEigen(remesh.point(v))).distance, 1e-12);
 }
 
 }  // namespace
