@@ -224,6 +224,13 @@ void stitchStrip(const std::vector<Eigen::Vector3d>& positions,
       // zip ends in a fan.
       if (advanceOuter && s[i + 1] > t[std::min(j + 2, n)] && onFront >= 0.0) advanceOuter = false;
       if (!advanceOuter && t[j + 1] > s[std::min(i + 2, m)] && onOuter >= 0.0) advanceOuter = true;
+      // A step after which the other side's next triangle would face backwards leads into a fan
+      // (where the front turns towards the loop, every later sample lies behind its edge): take
+      // the other side's triangle first while it still faces the right way.
+      const bool outerStrandsFront =
+          onFront >= 0.0 && quality(l1, l0, b1, normals[l0] + normals[l1]) < 0.0;
+      const bool frontStrandsOuter = onOuter >= 0.0 && quality(b0, b1, l1, normals[l1]) < 0.0;
+      if (outerStrandsFront != frontStrandsOuter) advanceOuter = frontStrandsOuter;
     }
     if (advanceOuter) {
       out.push_back({b0, b1, l0});

@@ -87,7 +87,9 @@ int slideBoundarySamples(const BoundaryIndex& index, std::vector<LoopSamples>& s
 /// non-decreasing); normals: the surface normal at each front vertex (indexed like positions).
 /// Each step adds the triangle on the next sample edge or on the next front edge, whichever faces
 /// along the normals with the larger smallest angle, without letting either side run ahead of the
-/// other (advancing by position when neither faces the right way). Appends to `out`.
+/// other (advancing by position when neither faces the right way), and not the one after which
+/// the other side's next triangle, facing the right way now, would face backwards unless both
+/// steps would do that (that side could then only close in a fan of slivers). Appends to `out`.
 void stitchStrip(const std::vector<Eigen::Vector3d>& positions,
                  const std::vector<Eigen::Vector3d>& normals, const std::vector<int>& outer,
                  const std::vector<double>& outerParam, const std::vector<int>& front,

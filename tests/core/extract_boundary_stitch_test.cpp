@@ -1,0 +1,67 @@
+// The strip between a lattice front and the samples of an input boundary loop
+// (core/extract/boundary.h, stitchStrip).
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/extract/boundary.h"
+
+namespace hexcover::extract_detail {
+namespace {
+
+// A flat disc of radius 10 bounded by a circle sampled about once per unit. The lattice front
+// runs 1.35 spacings inside the circle for half the loop, then steps to 0.5 spacings within half
+// a spacing along the loop (the way a lattice row ends next to the boundary) and back out at the
+// end: right after the inward step, every sample ahead of the step lies behind the front edge.
+TEST(BoundaryStitch, FrontSteppingTowardsTheLoopGivesNoFan) {
+  constexpr double kRadius = 10.0;
+  constexpr int kSamples = 63;
+  const double length = 2.0 * M_PI * kRadius;
+  const double spacing = length / kSamples;
+  std::vector<Eigen::Vector3d> positions;
+  const auto add = [&](double arc, double depth) {
+    const double angle = arc / kRadius, r = kRadius - depth * spacing;
+    positions.push_back({r * std::cos(angle), r * std::sin(angle), 0.0});
+    return static_cast<int>(positions.size()) - 1;
+  };
+  std::vector<int> outer, front;
+  std::vector<double> outerArc, frontArc;
+  for (int k = 0; k < kSamples; ++k) {
+    outerArc.push_back(k * spacing);
+    outer.push_back(add(outerArc.back(), 0.0));
+  }
+  for (int j = 0; j < 30; ++j) {
+    frontArc.push_back((j - 0.08) * spacing);
+    front.push_back(add(frontArc.back(), 1.35));
+  }
+  for (int j = 0; j < 33; ++j) {
+    frontArc.push_back((29.44 + j) * spacing);
+    front.push_back(add(frontArc.back(), 0.5));
+  }
+  const std::vector<Eigen::Vector3d> normals(positions.size(), Eigen::Vector3d::UnitZ());
+
+  std::vector<Triangle> strip;
+  stitchStrip(positions, normals, outer, outerArc, front, frontArc, length, strip);
+
+  EXPECT_EQ(strip.size(), outer.size() + front.size());
+  std::vector<int> triangles(positions.size(), 0);
+  for (const auto& t : strip) {
+    const Eigen::Vector3d n =
+        (positions[t[1]] - positions[t[0]]).cross(positions[t[2]] - positions[t[0]]);
+    EXPECT_GT(n.z(), 0.0) << "triangle " << t[0] << " " << t[1] << " " << t[2] << " faces down";
+    double smallest = 180.0;
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d u = positions[t[(k + 1) % 3]] - positions[t[k]];
+      const Eigen::Vector3d w = positions[t[(k + 2) % 3]] - positions[t[k]];
+      smallest = std::min(smallest, std::atan2(u.cross(w).norm(), u.dot(w)) * 180.0 / M_PI);
+    }
+    EXPECT_GT(smallest, 20.0) << "sliver " << t[0] << " " << t[1] << " " << t[2];
+    for (const int v : t) ++triangles[v];
+  }
+  // Each vertex of a zipped strip has a few triangles; a fan would give one many.
+  EXPECT_LE(*std::max_element(triangles.begin(), triangles.end()), 5);
+}
+
+}  // namespace
+}  // namespace hexcover::extract_detail
