@@ -15,6 +15,9 @@ using Vec3 = Eigen::Vector3d;
 constexpr double kLongEdge = 4.0 / 3.0;
 /// Edges shorter than this many target lengths are collapsed when that helps.
 constexpr double kShortEdge = 0.5;
+/// A boundary vertex with a single triangle that has an angle below this (degrees) is the tip of
+/// a poor ear: removed even when it is a corner.
+constexpr double kEarAngle = 20.0;
 /// A boundary vertex where the boundary turns by more than this (degrees) is a corner: kept.
 constexpr double kCornerTurn = 30.0;
 /// A flip that improves the valences may lower the pair's smallest angle only down to this
@@ -65,9 +68,9 @@ class BoundaryZone {
     markZone();
     long long collapses = 0;
     for (const auto e : mesh_.edges()) {
-      if (mesh_.calc_edge_length(e) >= kShortEdge * length_) continue;
+      const bool isShort = mesh_.calc_edge_length(e) < kShortEdge * length_;
       for (const auto h : {e.h0(), e.h1()})
-        if (mayRemoveAlong(h) && collapseHelps(h)) {
+        if (((isShort && mayRemoveAlong(h)) || isPoorEarAlong(h)) && collapseHelps(h)) {
           mesh_.collapse(h);
           ++collapses;
           break;
@@ -125,6 +128,19 @@ class BoundaryZone {
     const Vec3 before = position(from) - position(out.prev().from());
     const Vec3 after = position(out.to()) - position(from);
     return before.normalized().dot(after.normalized()) > std::cos(kCornerTurn * M_PI / 180.0);
+  }
+
+  /// h's start is the tip of an ear (a boundary vertex with a single triangle) whose triangle has
+  /// an angle below kEarAngle, and h the shorter of its two boundary edges: collapsing h removes
+  /// the ear, even at a corner of the boundary.
+  bool isPoorEarAlong(OpenMesh::SmartHalfedgeHandle h) const {
+    const auto from = h.from();
+    if (!mesh_.is_boundary(from) || from.valence() != 2 || !mesh_.is_boundary(h.edge()))
+      return false;
+    const auto out = from.halfedge(), in = out.prev();
+    const Vec3 p = position(from), a = position(out.to()), b = position(in.from());
+    const double other = (h.edge() == out.edge() ? b - p : a - p).norm();
+    return angleRange({p, a, b})[0] < kEarAngle && mesh_.calc_edge_length(h) <= other;
   }
 
   bool collapseHelps(OpenMesh::SmartHalfedgeHandle h) const {

@@ -5,7 +5,9 @@
 // (2004), restricted to the boundary and the vertices next to it:
 // - edges shorter than half the target length collapse into one end when that lowers the largest
 //   deviation from 60° of the removed end's triangles (the removed end: an interior vertex next to
-//   the boundary, or a boundary vertex that is not a corner, along the boundary);
+//   the boundary, or a boundary vertex that is not a corner, along the boundary); so does the tip
+//   of a poor ear (a boundary vertex with one triangle, which has an angle below 20°), along its
+//   shorter boundary edge;
 // - interior edges with an end on or next to the boundary flip towards valence 6 (interior) and 4
 //   (boundary), or towards a larger smallest angle;
 // - interior vertices next to the boundary move towards their neighbours' centroid projected onto

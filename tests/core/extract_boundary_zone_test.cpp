@@ -76,6 +76,27 @@ TEST(BoundaryZone, CollapsesABoundarySampleThatCrowdsItsNeighbour) {
   EXPECT_EQ(irregularInterior(remesh), 0);
 }
 
+TEST(BoundaryZone, RemovesAPoorEarOnTheBoundary) {
+  const TriMesh grid = makeEquilateralGrid(9, 9);
+  TriMesh remesh = grid;
+  // An ear below the bottom edge (3, 0)-(4, 0): a boundary vertex with one triangle whose angle
+  // at (4, 0) is 9.5°.
+  const auto at = [&](double x, double y) {
+    return *std::find_if(remesh.vertices().begin(), remesh.vertices().end(),
+                         [&](auto v) { return remesh.point(v) == TriMesh::Point(x, y, 0.0); });
+  };
+  const auto a = at(3.0, 0.0), b = at(4.0, 0.0);
+  const auto tip = remesh.add_vertex({3.1, -0.15, 0.0});
+  ASSERT_TRUE(remesh.add_face(b, a, tip).is_valid());
+  ASSERT_LT(smallestAngleDegrees(remesh), 10.0);
+
+  const TriMesh withEar = remesh;
+  const BoundaryZoneCounts counts = improveBoundaryZone(ClosestPointQuery(withEar), remesh, 1.0);
+  EXPECT_EQ(counts.collapses, 1);
+  EXPECT_EQ(remesh.n_vertices(), grid.n_vertices());
+  EXPECT_GT(smallestAngleDegrees(remesh), 59.9);
+}
+
 TEST(BoundaryZone, LeavesAClosedMeshAlone) {
   const TriMesh sphere = makeIcosphere(2);
   TriMesh remesh = sphere;
