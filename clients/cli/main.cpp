@@ -36,7 +36,7 @@ constexpr Subcommand kSubcommands[] = {
      runField},
     {"param",
      "param MESH -o TEXTURED.obj [--edge-length h | --vertices K] [--rosy 6|4] "
-     "[--sizing uniform|curvature] [--texture HEX.png] [--rounding direct|greedy]",
+     "[--sizing uniform|curvature] [--texture HEX.png] [--rounding direct|greedy] [--d-sing X]",
      runParam},
 };
 

@@ -1,8 +1,9 @@
 // `hexcover param MESH -o TEXTURED.obj [--edge-length h | --vertices K] [--rosy 6|4]
-//  [--sizing uniform|curvature] [--texture HEX.png] [--rounding direct|greedy]`: the seamless
-// HexCover parameterization (paper section 4) of a mesh along its geometry-aware field. Writes the
-// mesh with per-corner texture coordinates vt = (u, v/√3) (one 1:√3 pattern period per unit
-// square), optionally the matching hexagonal pattern tile, and prints one JSON object on stdout.
+//  [--sizing uniform|curvature] [--texture HEX.png] [--rounding direct|greedy] [--d-sing X]`:
+// the seamless HexCover parameterization (paper section 4) of a mesh along its geometry-aware
+// field. Writes the mesh with per-corner texture coordinates vt = (u, v/√3) (one 1:√3 pattern
+// period per unit square), optionally the matching hexagonal pattern tile, and prints one JSON
+// object on stdout.
 
 #include <algorithm>
 #include <chrono>
@@ -25,7 +26,7 @@ namespace hexcover::cli {
 int runParam(int argc, char** argv) {
   const Arguments args(argc, argv, 2,
                        {"-o", "--edge-length", "--vertices", "--rosy", "--sizing", "--texture",
-                        "--rounding"},
+                        "--rounding", "--d-sing"},
                        {});
   const std::string& path = args.positional(0, "MESH");
   args.expectPositionalCount(1);
@@ -52,12 +53,29 @@ int runParam(int argc, char** argv) {
       throw UsageError("--rounding must be direct or greedy, got '" + *rounding + "'");
     options.rounding = parseRoundingMethod(*rounding);
   }
+  const auto dSing = args.number("--d-sing");
+  if (dSing && !(*dSing > 0.0))
+    throw UsageError("--d-sing must be a positive distance in mesh units");
   const std::string sizing = args.value("--sizing").value_or("uniform");
   if (sizing != "uniform" && sizing != "curvature")
     throw UsageError("--sizing must be uniform or curvature, got '" + sizing + "'");
 
   const auto start = std::chrono::steady_clock::now();
   const TriMesh mesh = loadMesh(path);
+  // The uniform lattice unit requested (before the conformal correction of the parameterization).
+  const double uniform =
+      options.edgeLength > 0.0
+          ? options.edgeLength
+          : edgeLengthForVertexCount(mesh,
+                                     options.targetVertices > 0
+                                         ? options.targetVertices
+                                         : std::max(4, static_cast<int>(mesh.n_vertices()) / 4),
+                                     fieldOptions.n);
+  // d_sing follows the edge length as in the remesh pipeline (paper 3.3: for remeshing it "can be
+  // selected based on the edge length of the output mesh"): singularities closer than a few
+  // lattice units would be rounded onto one lattice point (its Fig. 15). --d-sing 0.1·B gives the
+  // paper's figures.
+  fieldOptions.singularityDistance = dSing.value_or(kSingularityDistanceInEdges * uniform);
   const RosyField field = computeRosyField(mesh, fieldOptions);
   if (sizing == "curvature") {
     // Scale with the largest absolute principal curvature (paper Fig. 13).
@@ -66,14 +84,8 @@ int runParam(int argc, char** argv) {
     for (std::size_t v = 0; v < absMax.size(); ++v)
       absMax[v] = std::max(std::abs(curvature.kappaMax[v]), std::abs(curvature.kappaMin[v]));
     // Smoothed over kSizingSmoothingInEdges uniform lattice units, as the pipeline does.
-    const double uniform =
-        options.edgeLength > 0.0
-            ? options.edgeLength
-            : edgeLengthForVertexCount(mesh, options.targetVertices > 0
-                                                 ? options.targetVertices
-                                                 : std::max(4, static_cast<int>(mesh.n_vertices()) / 4),
-                                       field.n);
-    options.vertexSizing = smoothSizing(mesh, curvatureSizing(absMax), kSizingSmoothingInEdges * uniform);
+    options.vertexSizing =
+        smoothSizing(mesh, curvatureSizing(absMax), kSizingSmoothingInEdges * uniform);
   }
   const Parameterization parameterization = computeParameterization(mesh, field, options);
   writeMesh(texturedSoup(mesh, parameterization), *output);
@@ -85,6 +97,7 @@ int runParam(int argc, char** argv) {
   json["output"] = *output;
   json["rounding"] = roundingMethodName(options.rounding);
   json["sizing"] = sizing;
+  json["singularity_distance"] = fieldOptions.singularityDistance;
   json["field_seconds"] = totalSeconds(field.timings);
   json["total_seconds"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

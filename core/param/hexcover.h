@@ -92,6 +92,13 @@ double edgeLengthForVertexCount(const TriMesh& mesh, int targetVertices, int n,
 /// M-matrix). Throws Error(InvalidOption) for a wrong-sized or non-positive sizing.
 std::vector<double> smoothSizing(const TriMesh& mesh, const std::vector<double>& sizing, double radius);
 
+/// Default d_sing of the field for a parameterization at edge length h (the remesh pipeline and
+/// `hexcover param`): kSingularityDistanceInEdges · h. The paper picks d_sing = 0.1·B for models
+/// remeshed at a few thousand vertices, about 6-10 edge lengths; singularities closer than a few
+/// lattice units are rounded onto one lattice point and force local degeneration (its Fig. 15),
+/// and more distant ones cost fewer irregular vertices.
+inline constexpr double kSingularityDistanceInEdges = 6.0;
+
 /// The radius of smoothSizing for curvature sizing, in uniform edge lengths (pipeline and CLI).
 inline constexpr double kSizingSmoothingInEdges = 5.0;
 

@@ -18,11 +18,6 @@ namespace hexcover {
 
 enum class Sizing { Uniform, Curvature };
 
-/// Default d_sing in edge lengths. The paper picks d_sing = 0.1·B for models remeshed at a few
-/// thousand vertices, about 6-10 edge lengths; singularities closer than a few lattice units
-/// force local degeneration (its Fig. 15), and more distant ones cost fewer irregular vertices.
-inline constexpr double kSingularityDistanceInEdges = 6.0;
-
 struct RemeshOptions {
   /// Target edge length in model units. At most one of edgeLength and targetVertices is set;
   /// with neither, the target is a quarter of the input's vertex count.

@@ -1,4 +1,5 @@
-// The `hexcover info` and `hexcover convert` commands, run as the built binary (HEXCOVER_CLI).
+// The `hexcover info`, `hexcover convert` and `hexcover param` commands, run as the built binary
+// (HEXCOVER_CLI).
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -124,6 +125,27 @@ TEST_F(CliTest, ConvertWritesTheFormatOfTheOutputExtension) {
       hexcover("convert '" + obj.string() + "' '" + (dir_ / "x.fbx").string() + "'");
   EXPECT_EQ(bad.status, 1);
   EXPECT_NE(bad.err.find(".fbx"), std::string::npos) << bad.err;
+}
+
+TEST_F(CliTest, ParamClustersSingularitiesAtSixEdgeLengthsUnlessToldOtherwise) {
+  const auto path = dir_ / "torus.obj", textured = dir_ / "textured.obj";
+  writeMesh(toPolygonSoup(makeTorus(3, 1, 48, 16)), path);
+  const CommandResult byDefault =
+      hexcover("param '" + path.string() + "' -o '" + textured.string() + "' --edge-length 0.5");
+  ASSERT_EQ(byDefault.status, 0) << byDefault.err;
+  const nlohmann::json json = nlohmann::json::parse(byDefault.out);
+  EXPECT_DOUBLE_EQ(json["singularity_distance"].get<double>(), 6.0 * 0.5) << "as the pipeline";
+  EXPECT_EQ(json["flipped"], 0);
+
+  const CommandResult given = hexcover("param '" + path.string() + "' -o '" + textured.string() +
+                                       "' --edge-length 0.5 --d-sing 1.25");
+  ASSERT_EQ(given.status, 0) << given.err;
+  EXPECT_DOUBLE_EQ(nlohmann::json::parse(given.out)["singularity_distance"].get<double>(), 1.25);
+
+  const CommandResult refused =
+      hexcover("param '" + path.string() + "' -o '" + textured.string() + "' --d-sing -1");
+  EXPECT_EQ(refused.status, 2) << "a usage error";
+  EXPECT_NE(refused.err.find("--d-sing"), std::string::npos) << refused.err;
 }
 
 }  // namespace

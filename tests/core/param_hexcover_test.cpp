@@ -531,5 +531,23 @@ TEST(HexCoverFoldOvers, AreRelaxedLocallyWithoutAGlobalReSolve) {
   }
 }
 
+// With the field clustered at kSingularityDistanceInEdges lattice units (the default of the
+// pipeline and of `hexcover param`), no clean mesh has a fold-over; feline is the one that keeps
+// 16 flipped triangles at the paper's d_sing = 0.1·B (pairs of +1/6 singularities less than an
+// edge length apart, rounded onto one lattice point).
+TEST(HexCoverFoldOvers, FelineHasNoneWithSingularitiesClusteredAtTheDefaultDistance) {
+  HEXCOVER_SHARED_MESH_OR_SKIP(path, "clean/feline.off");
+  const TriMesh mesh = loadMesh(path);
+  FieldOptions fieldOptions;
+  fieldOptions.singularityDistance =
+      kSingularityDistanceInEdges *
+      edgeLengthForVertexCount(mesh, static_cast<int>(mesh.n_vertices()) / 4, 6);
+  const RosyField field = computeRosyField(mesh, fieldOptions);
+  const Parameterization p = computeParameterization(mesh, field, ParamOptions{});
+  EXPECT_EQ(p.flippedTriangles, 0);
+  expectSeamless(mesh, p);
+  expectSingularitiesOnLattice(mesh, field, p);
+}
+
 }  // namespace
 }  // namespace hexcover
