@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <set>
 #include <string>
 #include <unordered_map>
 
@@ -758,23 +759,78 @@ void repairNonManifold(Assembly& out, ExtractionReport& report) {
 }
 
 /// Step 6: copies the faces of the components that received no triangle.
-void keepUncoveredComponents(const TriMesh& mesh, const std::vector<int>& faceComponent,
-                             int componentCount, Assembly& out, ExtractionReport& report) {
-  std::vector<bool> covered(componentCount, false);
-  for (const auto& t : out.triangles) covered[out.component[t[0]]] = true;
-  std::vector<int> copy(mesh.n_vertices(), -1);
+/// Euler characteristic, boundary loops and connected pieces of a triangle set (vertex indices
+/// into any array).
+struct SoupTopology {
+  long long euler = 0;
+  std::size_t boundaryLoops = 0;
+  int pieces = 0;
+  bool operator==(const SoupTopology& o) const {
+    return euler == o.euler && boundaryLoops == o.boundaryLoops && pieces == o.pieces;
+  }
+};
+
+SoupTopology soupTopology(const std::vector<Triangle>& triangles) {
+  std::map<int, int> index;  // vertex -> its position in the union-find
+  for (const auto& t : triangles)
+    for (const int v : t) index.emplace(v, static_cast<int>(index.size()));
+  std::vector<int> parent(index.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto root = [&](int a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+    return a;
+  };
+  std::set<std::pair<int, int>> edges;
+  for (const auto& t : triangles)
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[k], b = t[(k + 1) % 3];
+      edges.emplace(std::min(a, b), std::max(a, b));
+      parent[root(index.at(a))] = root(index.at(b));
+    }
+  SoupTopology topology;
+  topology.euler = static_cast<long long>(index.size()) - static_cast<long long>(edges.size()) +
+                   static_cast<long long>(triangles.size());
+  topology.boundaryLoops = traceBoundaryLoops(triangles).size();
+  for (std::size_t i = 0; i < parent.size(); ++i)
+    topology.pieces += root(static_cast<int>(i)) == static_cast<int>(i) ? 1 : 0;
+  return topology;
+}
+
+/// Step 6: an input component is copied unchanged when no lattice triangle fits on it, or (Follow
+/// mode) when its lattice triangles do not have its topology (Euler characteristic, boundary
+/// loops, one piece): a component too small for the lattice, or one whose remesh would close a
+/// hole.
+void keepComponentsTooSmallForTheLattice(const TriMesh& mesh, const std::vector<int>& faceComponent,
+                                         int componentCount, const ExtractOptions& options,
+                                         Assembly& out, ExtractionReport& report) {
+  std::vector<std::vector<Triangle>> input(componentCount), remeshed(componentCount);
   for (const auto f : mesh.faces()) {
-    const int c = faceComponent[f.idx()];
-    if (covered[c]) continue;
     Triangle t;
     int k = 0;
-    for (const auto v : mesh.fv_range(f)) {
-      if (copy[v.idx()] < 0) copy[v.idx()] = out.addVertex(toEigen(mesh.point(v)), c);
-      t[k++] = copy[v.idx()];
-    }
-    out.triangles.push_back(t);
+    for (const auto v : mesh.fv_range(f)) t[k++] = v.idx();
+    input[faceComponent[f.idx()]].push_back(t);
   }
-  for (int c = 0; c < componentCount; ++c) report.componentsKept += covered[c] ? 0 : 1;
+  for (const auto& t : out.triangles) remeshed[out.component[t[0]]].push_back(t);
+  std::vector<bool> keep(componentCount, false);
+  for (int c = 0; c < componentCount; ++c)
+    keep[c] = remeshed[c].empty() ||
+              (options.boundary == BoundaryMode::Follow &&
+               !(soupTopology(remeshed[c]) == soupTopology(input[c])));
+  std::erase_if(out.triangles, [&](const Triangle& t) { return keep[out.component[t[0]]]; });
+  std::vector<int> copy(mesh.n_vertices(), -1);
+  for (int c = 0; c < componentCount; ++c) {
+    if (!keep[c]) continue;
+    ++report.componentsKept;
+    for (const auto& t : input[c]) {
+      Triangle copied;
+      for (int k = 0; k < 3; ++k) {
+        if (copy[t[k]] < 0)
+          copy[t[k]] = out.addVertex(toEigen(mesh.point(mesh.vertex_handle(t[k]))), c);
+        copied[k] = copy[t[k]];
+      }
+      out.triangles.push_back(copied);
+    }
+  }
 }
 
 /// The referenced vertices and the triangles as an OpenMesh mesh; faces OpenMesh refuses (they
@@ -889,7 +945,7 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     dropDegenerateAndOverlapping(out.triangles, report);
     if (componentCount > 0) closeBoundaries(mesh, faceComponent, options, out, report);
     repairNonManifold(out, report);
-    keepUncoveredComponents(mesh, faceComponent, componentCount, out, report);
+    keepComponentsTooSmallForTheLattice(mesh, faceComponent, componentCount, options, out, report);
     result.triangles = buildMesh(out, report);
   }
   {

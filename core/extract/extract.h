@@ -26,7 +26,9 @@
 //    lengths to the input boundary are removed, each input boundary loop is resampled at the
 //    local edge length (keeping corners sharper than `sharpBoundaryAngle`) and the strip between
 //    it and the lattice front is triangulated, so the output boundary lies on the input boundary.
-// 6. Components of the input on which no lattice triangle fits are copied unchanged.
+// 6. Components of the input on which no lattice triangle fits, or whose lattice triangles do
+//    not have the component's topology (Euler characteristic, boundary loops, one piece), are
+//    copied unchanged.
 // 7. Boundary zone (Follow mode, boundary_zone.h): short edges on and next to the input boundary
 //    collapse, edges next to it flip towards regular valence or larger angles and the vertices
 //    next to it are smoothed, which opens up thin triangles that stitching leaves.
@@ -87,7 +89,7 @@ struct ExtractionReport {
   long long holesFilled = 0;           ///< interior holes (coverage gaps) closed locally
   long long holeTriangles = 0;         ///< triangles added to close them
   long long unmatchedBoundaryLoops = 0;  ///< input boundary loops without a single lattice front
-  long long componentsKept = 0;        ///< input components too small for the lattice, copied
+  long long componentsKept = 0;  ///< input components too small for the lattice (step 6), copied
   long long zoneCollapses = 0;  ///< boundary zone (Follow mode): short edges collapsed
   long long zoneFlips = 0;      ///< boundary zone: edges flipped (valence, angles)
   long long zoneSmoothed = 0;   ///< boundary zone: vertex moves next to the boundary

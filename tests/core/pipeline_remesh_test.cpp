@@ -57,6 +57,22 @@ TEST(PipelineRemesh, TubeKeepsItsTwoBoundaryLoopsOnTheInputBoundary) {
   }
 }
 
+TEST(PipelineRemesh, KeepsAComponentWhoseRemeshWouldChangeItsTopology) {
+  // A cube of 8 vertices at the default settings (a target of 4 vertices): the few lattice
+  // triangles that fit close up into two two-sided pairs (two components), so the cube is kept as
+  // it is and reported.
+  const PolygonSoup cube = parseMesh(
+      "OFF\n8 6 0\n1.632993 0 1.154701\n0 1.632993 1.154701\n-1.632993 0 1.154701\n"
+      "0 -1.632993 1.154701\n1.632993 0 -1.154701\n0 1.632993 -1.154701\n"
+      "-1.632993 0 -1.154701\n0 -1.632993 -1.154701\n"
+      "4 0 1 2 3\n4 7 4 0 3\n4 4 5 1 0\n4 5 6 2 1\n4 3 2 6 7\n4 6 5 4 7\n");
+  const RemeshResult result = remesh(cube, {});
+  EXPECT_TRUE(result.metrics.topologyMatchesReference.value_or(false));
+  EXPECT_EQ(result.remesh.report.componentsKept, 1);
+  EXPECT_EQ(result.metrics.topology.components, 1);
+  EXPECT_EQ(result.metrics.topology.genus(), 0);
+}
+
 TEST(PipelineRemesh, TargetVertexCountIsMetWithinTenPercent) {
   const PolygonSoup sphere = toPolygonSoup(makeIcosphere(4));
   for (const long long target : {300LL, 1500LL}) {
