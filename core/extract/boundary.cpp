@@ -144,12 +144,11 @@ Eigen::Vector3d BoundaryIndex::pointAt(int i, double s) const {
   return points[k] + t * (points[(k + 1) % points.size()] - points[k]);
 }
 
-std::vector<double> sampleBoundaryLoop(const BoundaryIndex& index, int loop, double spacing,
-                                       double sharpAngleDeg, std::vector<bool>* corner) {
+std::vector<double> sharpCorners(const BoundaryIndex& index, int loop, double spacing,
+                                 double sharpAngleDeg) {
   const auto& points = index.loop(loop);
   const std::size_t n = points.size();
   const double total = index.loopLength(loop);
-  // Arc positions of the sharp corners (turning angle above the threshold).
   std::vector<double> corners;
   double arc = 0.0;
   const double cosSharp = std::cos(sharpAngleDeg * M_PI / 180.0);
@@ -164,6 +163,13 @@ std::vector<double> sampleBoundaryLoop(const BoundaryIndex& index, int loop, dou
     arc += out.norm();
   }
   if (corners.size() > 1 && corners.front() + total - corners.back() < 0.5 * spacing) corners.pop_back();
+  return corners;
+}
+
+std::vector<double> sampleBoundaryLoop(const BoundaryIndex& index, int loop, double spacing,
+                                       double sharpAngleDeg, std::vector<bool>* corner) {
+  const double total = index.loopLength(loop);
+  std::vector<double> corners = sharpCorners(index, loop, spacing, sharpAngleDeg);
   if (corners.empty()) corners.push_back(0.0);
   std::vector<double> samples;
   for (std::size_t c = 0; c < corners.size(); ++c) {

@@ -53,6 +53,12 @@ class BoundaryIndex {
   std::uint64_t cellKey(const Eigen::Vector3d& p) const;
 };
 
+/// Arc-length positions (ascending in [0, loopLength)) of the points of input boundary loop `loop`
+/// where its polyline turns by more than `sharpAngleDeg` (sharp corners), skipping a corner within
+/// half a `spacing` of the previous one.
+std::vector<double> sharpCorners(const BoundaryIndex& index, int loop, double spacing,
+                                 double sharpAngleDeg);
+
 /// Arc-length positions of the samples that replace input boundary loop `loop`: about one per
 /// `spacing`, always including the points whose polyline turns by more than `sharpAngleDeg`
 /// (sharp corners) unless within half a spacing of the previous corner, at least 3. Ascending in

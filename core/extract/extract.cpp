@@ -3,15 +3,16 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <numeric>
 #include <set>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "core/common/error.h"
 #include "core/extract/boundary.h"
-#include "core/extract/boundary_zone.h"
 #include "core/extract/exact_lattice.h"
 #include "core/extract/surface_fit.h"
 
@@ -528,11 +529,141 @@ void fillGap(const std::vector<int>& loop, Assembly& out, std::vector<Triangle>&
 /// the other; their samples are chained into one outer loop, each loop walked once around from
 /// the sample where the front arrives and joined to the next by a bridge edge, so the strip (a
 /// sphere with 1 + k holes) is triangulated in one zip.
+/// Samples up to this many places from a corner share its move (see stitchFrontByValence).
+constexpr int kCornerSpread = 2;
+/// A corner moves the nearest sample at most this many sample spacings; a corner farther from
+/// every free sample is not resolved at this edge length.
+constexpr double kCornerReach = 0.5;
+
+/// Stitches a front to its single input loop so that every front vertex gets valence 6 (paper
+/// 5.2: irregular vertices only at singularities). A front vertex with a lattice edges is joined
+/// to d = max(1, 6 − a) consecutive boundary samples; neighbouring front vertices share one, so
+/// the loop gets Σ(d − 1) samples. The sample shared by two front vertices sits at the middle of
+/// their arc positions on the loop, the others of a front vertex evenly between its shared ones.
+/// Each sharp corner of the loop takes the place of the nearest free sample within kCornerReach
+/// spacings. Returns false (and adds nothing) for a front that runs back along the loop, corners
+/// that would reorder the samples, or fewer than 3 samples.
+bool stitchFrontByValence(const BoundaryIndex& index, int loop, int component,
+                          const std::vector<int>& front, const std::vector<double>& frontArc,
+                          double spacing, const ExtractOptions& options, Assembly& out,
+                          std::vector<Triangle>& added, std::vector<LoopSamples>& loopSamples,
+                          ExtractionReport& report) {
+  const std::size_t n = front.size();
+  const double length = index.loopLength(loop);
+  if (frontArc.back() - frontArc.front() > length) return false;
+  std::map<int, std::set<int>> neighbours;  // lattice neighbours of the front vertices
+  for (const int v : front) neighbours[v];
+  for (const auto& t : out.triangles)
+    for (int k = 0; k < 3; ++k)
+      if (const auto it = neighbours.find(t[k]); it != neighbours.end())
+        it->second.insert({t[(k + 1) % 3], t[(k + 2) % 3]});
+  // Front vertex j is joined to samples first[j] .. first[j + 1] (indices modulo the count).
+  std::vector<int> first(n + 1, 0);
+  for (std::size_t j = 0; j < n; ++j)
+    first[j + 1] = first[j] + std::max(1, 6 - static_cast<int>(neighbours.at(front[j]).size())) - 1;
+  const int m = first[n];
+  if (m < 3) return false;
+
+  // Unwrapped arcs: sample m is sample 0 one loop later.
+  const auto arcOf = [&](std::size_t j) { return j < n ? frontArc[j] : frontArc[j - n] + length; };
+  std::vector<double> sum(m + 1, 0.0), count(m + 1, 0.0);
+  for (std::size_t j = 0; j < n; ++j) {
+    sum[first[j + 1]] += 0.5 * (arcOf(j) + arcOf(j + 1));
+    count[first[j + 1]] += 1.0;
+  }
+  sum[0] += sum[m] - count[m] * length;
+  count[0] += count[m];
+  std::vector<double> arc(m + 1, 0.0);
+  for (int k = 0; k < m; ++k)
+    if (count[k] > 0.0) arc[k] = sum[k] / count[k];
+  arc[m] = arc[0] + length;
+  for (std::size_t j = 0; j < n; ++j)
+    for (int k = first[j] + 1; k < first[j + 1]; ++k)
+      arc[k] = arc[first[j]] + (arc[first[j + 1]] - arc[first[j]]) * (k - first[j]) /
+                                   (first[j + 1] - first[j]);
+  const auto wrapped = [&](double a) { return a - length * std::floor(a / length); };
+  // Sharp corners are samples: the nearest sample moves onto each corner, and the samples up to
+  // kCornerSpread places away follow a decreasing part of its move, so that the strip's
+  // triangles around the corner share the distortion.
+  std::vector<bool> corner(m, false);
+  std::vector<double> shift(m, 0.0);
+  // Corners in loop order from arc[0], each on the nearest sample after the previous corner's.
+  std::vector<double> corners;
+  for (const double c : sharpCorners(index, loop, spacing, options.sharpBoundaryAngle))
+    corners.push_back(arc[0] + wrapped(c - arc[0]));
+  std::sort(corners.begin(), corners.end());
+  int next = 0;
+  for (const double at : corners) {
+    if (next >= m) break;
+    int nearest = next;
+    for (int k = next + 1; k < m; ++k)
+      if (std::abs(arc[k] - at) < std::abs(arc[nearest] - at)) nearest = k;
+    // A corner farther than kCornerReach spacings from every free sample is not resolved at this
+    // edge length (like one within half a spacing of the previous corner, see sharpCorners).
+    if (std::abs(arc[nearest] - at) > kCornerReach * spacing) continue;
+    corner[nearest] = true;
+    shift[nearest] = at - arc[nearest];
+    next = nearest + 1;
+  }
+  std::vector<double> moved(arc.begin(), arc.begin() + m);
+  for (int k = 0; k < m; ++k) {
+    if (corner[k]) {
+      moved[k] += shift[k];
+      continue;
+    }
+    // The nearest corner sample on either side within kCornerSpread places.
+    double move = 0.0, weight = 0.0;
+    for (int d = 1; d <= kCornerSpread; ++d)
+      for (const int i : {(k + d) % m, (k - d + m) % m})
+        if (corner[i]) {
+          const double w = 1.0 - static_cast<double>(d) / (kCornerSpread + 1);
+          move += w * shift[i];
+          weight += 1.0;
+        }
+    if (weight > 0.0) moved[k] += move / weight;
+  }
+  for (int k = 0; k < m; ++k) {
+    const double next = k + 1 < m ? moved[k + 1] : moved[0] + length;
+    if (!(moved[k] < next)) return false;  // the corners would reorder the samples
+  }
+  std::copy(moved.begin(), moved.end(), arc.begin());
+  arc[m] = arc[0] + length;
+  std::vector<int> sample(m);
+  for (int k = 0; k < m; ++k) {
+    sample[k] = out.addVertex(index.pointAt(loop, wrapped(arc[k])), component);
+    out.onBoundary[sample[k]] = true;
+  }
+  report.boundarySamples += m;
+  // Triangles in the zip's orientation (see stitchStrip): outer steps {s_k, s_k+1, f_j}, then
+  // the front step {f_j+1, f_j, s}.
+  for (std::size_t j = 0; j < n; ++j) {
+    for (int k = first[j]; k < first[j + 1]; ++k)
+      added.push_back({sample[k % m], sample[(k + 1) % m], front[j]});
+    added.push_back({front[(j + 1) % n], front[j], sample[first[j + 1] % m]});
+  }
+  // For the slides: the samples in ascending arc order in [0, length).
+  LoopSamples samples{loop, spacing, {}, {}, {}};
+  std::vector<int> order(m);
+  std::iota(order.begin(), order.end(), 0);
+  std::rotate(order.begin(),
+              std::min_element(order.begin(), order.end(),
+                               [&](int a, int b) { return wrapped(arc[a]) < wrapped(arc[b]); }),
+              order.end());
+  for (const int k : order) {
+    samples.vertex.push_back(sample[k]);
+    samples.arc.push_back(wrapped(arc[k]));
+    samples.corner.push_back(corner[k]);
+  }
+  loopSamples.push_back(std::move(samples));
+  return true;
+}
+
 void stitchFront(const BoundaryIndex& index, const std::vector<int>& inputLoopComponent,
                  const std::vector<int>& inputs, std::vector<int> front,
                  const std::vector<double>& h, const std::vector<Eigen::Vector3d>& normals,
                  const ExtractOptions& options, Assembly& out, std::vector<Triangle>& added,
-                 std::vector<LoopSamples>& loopSamples, ExtractionReport& report) {
+                 std::vector<Triangle>& regular, std::vector<LoopSamples>& loopSamples,
+                 ExtractionReport& report) {
   const std::size_t n = front.size();
   std::vector<double> frontH;
   for (const int v : front) frontH.push_back(h[v]);
@@ -562,6 +693,13 @@ void stitchFront(const BoundaryIndex& index, const std::vector<int>& inputLoopCo
     return std::pair{samples, sampleArc};
   };
   if (inputs.size() == 1) {
+    std::vector<int> valenceFront = front;
+    std::vector<double> valenceArc = arc;
+    alignFrontToLoop({arc[0]}, valenceFront, valenceArc, index.loopLength(inputs[0]));
+    for (std::size_t j = 1; j < n; ++j) valenceArc[j] = std::max(valenceArc[j], valenceArc[j - 1]);
+    if (stitchFrontByValence(index, inputs[0], inputLoopComponent[inputs[0]], valenceFront,
+                             valenceArc, spacing, options, out, regular, loopSamples, report))
+      return;
     const auto [samples, sampleArc] = addSamples(inputs[0]);
     alignFrontToLoop(sampleArc, front, arc, index.loopLength(inputs[0]));
     stitchStrip(out.positions, normals, samples, sampleArc, front, arc,
@@ -678,7 +816,9 @@ void closeBoundaries(const TriMesh& mesh, const std::vector<int>& faceComponent,
     if (owner[i] < 0 && componentHasLattice[inputLoopComponent[i]]) ++report.unmatchedBoundaryLoops;
 
   const std::vector<Eigen::Vector3d> normals = vertexNormals(out);
-  std::vector<Triangle> added;
+  // Strip and fill triangles: `added` may be flipped; `regular` (stitched by valence) keeps its
+  // connectivity, which gives every front vertex valence 6.
+  std::vector<Triangle> added, regular;
   std::vector<LoopSamples> loopSamples;  // the samples of every stitched input loop
   std::vector<int> gaps;
   for (std::size_t l = 0; l < loops.size(); ++l) {
@@ -690,18 +830,24 @@ void closeBoundaries(const TriMesh& mesh, const std::vector<int>& faceComponent,
       for (const int v : loops[l]) out.onBoundary[v] = true;
       continue;
     }
-    const std::size_t before = added.size();
+    const std::size_t before = added.size() + regular.size();
     stitchFront(index, inputLoopComponent, assigned[l], loops[l], h, normals, options, out, added,
-                loopSamples, report);
-    report.stripTriangles += static_cast<long long>(added.size() - before);
+                regular, loopSamples, report);
+    report.stripTriangles += static_cast<long long>(added.size() + regular.size() - before);
   }
   std::sort(gaps.begin(), gaps.end());
   for (const int l : gaps) fillGap(loops[l], out, added, report);
   // Samples slide along the input boundary to open up the strip's thin triangles, then flips;
   // a second slide after the flips.
-  report.boundarySlides += slideBoundarySamples(index, loopSamples, added, out.positions);
+  const auto strips = [&] {
+    std::vector<Triangle> all = added;
+    all.insert(all.end(), regular.begin(), regular.end());
+    return all;
+  };
+  report.boundarySlides += slideBoundarySamples(index, loopSamples, strips(), out.positions);
+  out.triangles.insert(out.triangles.end(), regular.begin(), regular.end());
   report.stripFlips += improveByFlips(out.positions, out.triangles, added);
-  report.boundarySlides += slideBoundarySamples(index, loopSamples, added, out.positions);
+  report.boundarySlides += slideBoundarySamples(index, loopSamples, strips(), out.positions);
   out.triangles.insert(out.triangles.end(), added.begin(), added.end());
 }
 
@@ -770,29 +916,32 @@ struct SoupTopology {
   }
 };
 
-SoupTopology soupTopology(const std::vector<Triangle>& triangles) {
-  std::map<int, int> index;  // vertex -> its position in the union-find
-  for (const auto& t : triangles)
-    for (const int v : t) index.emplace(v, static_cast<int>(index.size()));
-  std::vector<int> parent(index.size());
-  std::iota(parent.begin(), parent.end(), 0);
+SoupTopology soupTopology(const std::vector<Triangle>& triangles, std::size_t vertexCount) {
+  // Union-find over the vertices (-1: not in the set); edges counted once per undirected pair.
+  std::vector<int> parent(vertexCount, -1);
   const auto root = [&](int a) {
     while (parent[a] != a) a = parent[a] = parent[parent[a]];
     return a;
   };
-  std::set<std::pair<int, int>> edges;
+  long long vertices = 0;
+  for (const auto& t : triangles)
+    for (const int v : t)
+      if (parent[v] < 0) parent[v] = v, ++vertices;
+  std::unordered_set<std::uint64_t> edges;
+  edges.reserve(2 * triangles.size());
   for (const auto& t : triangles)
     for (int k = 0; k < 3; ++k) {
-      const int a = t[k], b = t[(k + 1) % 3];
-      edges.emplace(std::min(a, b), std::max(a, b));
-      parent[root(index.at(a))] = root(index.at(b));
+      const auto a = static_cast<std::uint32_t>(std::min(t[k], t[(k + 1) % 3]));
+      const auto b = static_cast<std::uint32_t>(std::max(t[k], t[(k + 1) % 3]));
+      edges.insert(std::uint64_t{a} << 32 | b);
+      parent[root(t[k])] = root(t[(k + 1) % 3]);
     }
   SoupTopology topology;
-  topology.euler = static_cast<long long>(index.size()) - static_cast<long long>(edges.size()) +
+  topology.euler = vertices - static_cast<long long>(edges.size()) +
                    static_cast<long long>(triangles.size());
   topology.boundaryLoops = traceBoundaryLoops(triangles).size();
-  for (std::size_t i = 0; i < parent.size(); ++i)
-    topology.pieces += root(static_cast<int>(i)) == static_cast<int>(i) ? 1 : 0;
+  for (std::size_t v = 0; v < vertexCount; ++v)
+    topology.pieces += parent[v] == static_cast<int>(v) ? 1 : 0;
   return topology;
 }
 
@@ -803,48 +952,53 @@ SoupTopology soupTopology(const std::vector<Triangle>& triangles) {
 void keepComponentsTooSmallForTheLattice(const TriMesh& mesh, const std::vector<int>& faceComponent,
                                          int componentCount, const ExtractOptions& options,
                                          Assembly& out, ExtractionReport& report) {
-  std::vector<std::vector<Triangle>> input(componentCount), remeshed(componentCount);
+  // The input components' topology, from the mesh's connectivity (each is one piece).
+  std::vector<SoupTopology> inputTopology(componentCount);
+  for (auto& t : inputTopology) t.pieces = 1;
+  std::vector<int> vertexComponent(mesh.n_vertices(), -1);
   for (const auto f : mesh.faces()) {
-    Triangle t;
-    int k = 0;
-    for (const auto v : mesh.fv_range(f)) t[k++] = v.idx();
-    input[faceComponent[f.idx()]].push_back(t);
+    const int c = faceComponent[f.idx()];
+    inputTopology[c].euler += 1;
+    for (const auto v : f.vertices()) vertexComponent[v.idx()] = c;
   }
+  for (const auto v : mesh.vertices())
+    if (vertexComponent[v.idx()] >= 0) inputTopology[vertexComponent[v.idx()]].euler += 1;
+  for (const auto e : mesh.edges())
+    if (const int c = vertexComponent[e.v0().idx()]; c >= 0) inputTopology[c].euler -= 1;
+  std::vector<bool> seen(mesh.n_halfedges(), false);
+  for (const auto h : mesh.halfedges()) {
+    if (!h.is_boundary() || seen[h.idx()]) continue;
+    for (auto g = h; !seen[g.idx()]; g = g.next()) seen[g.idx()] = true;
+    ++inputTopology[vertexComponent[h.from().idx()]].boundaryLoops;
+  }
+
+  std::vector<std::vector<Triangle>> remeshed(componentCount);
   for (const auto& t : out.triangles) remeshed[out.component[t[0]]].push_back(t);
   std::vector<bool> keep(componentCount, false);
   for (int c = 0; c < componentCount; ++c)
     keep[c] = remeshed[c].empty() ||
               (options.boundary == BoundaryMode::Follow &&
-               !(soupTopology(remeshed[c]) == soupTopology(input[c])));
+               !(soupTopology(remeshed[c], out.positions.size()) == inputTopology[c]));
   std::erase_if(out.triangles, [&](const Triangle& t) { return keep[out.component[t[0]]]; });
   std::vector<int> copy(mesh.n_vertices(), -1);
-  for (int c = 0; c < componentCount; ++c) {
+  for (const auto f : mesh.faces()) {
+    const int c = faceComponent[f.idx()];
     if (!keep[c]) continue;
-    ++report.componentsKept;
-    for (const auto& t : input[c]) {
-      Triangle copied;
-      for (int k = 0; k < 3; ++k) {
-        if (copy[t[k]] < 0)
-          copy[t[k]] = out.addVertex(toEigen(mesh.point(mesh.vertex_handle(t[k]))), c);
-        copied[k] = copy[t[k]];
-      }
-      out.triangles.push_back(copied);
+    Triangle copied;
+    int k = 0;
+    for (const auto v : f.vertices()) {
+      if (copy[v.idx()] < 0) copy[v.idx()] = out.addVertex(toEigen(mesh.point(v)), c);
+      copied[k++] = copy[v.idx()];
     }
+    out.triangles.push_back(copied);
   }
+  for (int c = 0; c < componentCount; ++c) report.componentsKept += keep[c] ? 1 : 0;
 }
 
 /// The referenced vertices and the triangles as an OpenMesh mesh; faces OpenMesh refuses (they
 /// would make a vertex or edge non-manifold) are counted, and the holes they leave (boundary
 /// loops through no vertex of the output's boundary) are closed by a fan around the loop's
 /// centroid, as in step 4.
-/// Median edge length of a mesh (the lattice's, before the boundary zone is remeshed).
-double medianEdgeLength(const TriMesh& mesh) {
-  std::vector<double> lengths;
-  lengths.reserve(mesh.n_edges());
-  for (const auto e : mesh.edges()) lengths.push_back(mesh.calc_edge_length(e));
-  return median(std::move(lengths));
-}
-
 TriMesh buildMesh(const Assembly& out, ExtractionReport& report) {
   TriMesh result;
   std::vector<VH> handle(out.positions.size());
@@ -953,13 +1107,6 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     context.report("extract", 0.8);
     context.throwIfCanceled();
     const ClosestPointQuery inputQuery(mesh);
-    if (options.boundary == BoundaryMode::Follow && result.triangles.n_faces() > 0) {
-      const auto counts = extract_detail::improveBoundaryZone(inputQuery, result.triangles,
-                                                              medianEdgeLength(result.triangles));
-      report.zoneCollapses = counts.collapses;
-      report.zoneFlips = counts.flips;
-      report.zoneSmoothed = counts.smoothed;
-    }
     if (options.fitToSurface && result.triangles.n_faces() > 0) {
       const auto counts = extract_detail::fitRemeshToSurface(mesh, inputQuery, result.triangles,
                                                              options.featureSnapDistance);

@@ -23,16 +23,16 @@
 // 4. Repair: triangles covered more than once are dropped after the first; holes that do not
 //    touch the input boundary (coverage gaps near folds or singularities) are filled locally.
 // 5. Boundary (BoundaryMode::Follow): lattice vertices closer than `boundarySnapDistance` edge
-//    lengths to the input boundary are removed, each input boundary loop is resampled at the
-//    local edge length (keeping corners sharper than `sharpBoundaryAngle`) and the strip between
-//    it and the lattice front is triangulated, so the output boundary lies on the input boundary.
+//    lengths to the input boundary are removed, each input boundary loop is resampled (keeping
+//    corners sharper than `sharpBoundaryAngle`) and the strip between it and the lattice front is
+//    triangulated, so the output boundary lies on the input boundary. The samples are chosen so
+//    that every front vertex gets valence 6 (6 − a samples for a lattice edges), which keeps the
+//    irregular vertices at the singularities next to the boundary too; a sharp corner replaces
+//    the nearest sample within half a spacing.
 // 6. Components of the input on which no lattice triangle fits, or whose lattice triangles do
 //    not have the component's topology (Euler characteristic, boundary loops, one piece), are
 //    copied unchanged.
-// 7. Boundary zone (Follow mode, boundary_zone.h): short edges on and next to the input boundary
-//    collapse, edges next to it flip towards regular valence or larger angles and the vertices
-//    next to it are smoothed, which opens up thin triangles that stitching leaves.
-// 8. Fit (surface_fit.h): vertices move over the input surface where the lattice cuts off a
+// 7. Fit (surface_fit.h): vertices move over the input surface where the lattice cuts off a
 //    sharp crease or tip (feature snapping) or next to poor triangles (smoothing), when that does
 //    not raise the local deviation from the input; the connectivity stays.
 
@@ -58,11 +58,11 @@ struct ExtractOptions {
   /// Boundary vertices of the input whose boundary turns by more than this many degrees are kept
   /// as output vertices (sharp corners). In [0, 180].
   double sharpBoundaryAngle = 30.0;
-  /// Step 8: fit the remesh to the input surface (feature snapping and smoothing of poor
+  /// Step 7: fit the remesh to the input surface (feature snapping and smoothing of poor
   /// triangles). Off: the vertices stay at the lattice points' positions.
   bool fitToSurface = true;
   /// Input vertices farther than this many local edge lengths from the remesh pull a remesh
-  /// vertex onto themselves (step 8). In [0, 1); 0 disables snapping.
+  /// vertex onto themselves (step 7). In [0, 1); 0 disables snapping.
   double featureSnapDistance = 0.35;
 
   /// Throws Error(InvalidOption) naming the first bad option.
@@ -90,9 +90,6 @@ struct ExtractionReport {
   long long holeTriangles = 0;         ///< triangles added to close them
   long long unmatchedBoundaryLoops = 0;  ///< input boundary loops without a single lattice front
   long long componentsKept = 0;  ///< input components too small for the lattice (step 6), copied
-  long long zoneCollapses = 0;  ///< boundary zone (Follow mode): short edges collapsed
-  long long zoneFlips = 0;      ///< boundary zone: edges flipped (valence, angles)
-  long long zoneSmoothed = 0;   ///< boundary zone: vertex moves next to the boundary
   long long featureSnaps = 0;          ///< vertices moved onto a sharp feature of the input
   long long smoothedVertices = 0;      ///< vertex moves that opened up poor triangles
   long long relaxedVertices = 0;       ///< relaxation moves (angles nearer 60°)

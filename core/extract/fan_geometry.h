@@ -1,6 +1,6 @@
 #pragma once
 // Angles and normals of a vertex's triangles with the vertex at a trial position (internal to
-// core/extract): the acceptance tests of the boundary-zone remeshing and the surface fit.
+// core/extract): the acceptance tests of the surface fit.
 
 #include <Eigen/Geometry>
 #include <algorithm>

@@ -226,15 +226,21 @@ TEST(ExtractSynthetic, RotatedScaledLatticeIsEmittedOnceAndRegularInside) {
   EXPECT_TRUE(irregularInteriorVertices(remesh.triangles).empty());
 }
 
-TEST(ExtractSynthetic, FollowedBoundaryLiesOnTheInputBoundaryAndKeepsTopology) {
-  const TriMesh grid = makeEquilateralGrid(12, 11, 1.0);
+/// A flat parallelogram patch under a lattice turned by 0.31 rad against its sides, without
+/// singularities.
+Remesh remeshOfTurnedPatch(const TriMesh& grid) {
   const double angle = 0.31, scale = 1.0 / 0.37;
   const auto map = [&](Eigen::Vector3d p) {
     const double x = scale * (std::cos(angle) * p.x() - std::sin(angle) * p.y()) + 0.123;
     const double y = scale * (std::sin(angle) * p.x() + std::cos(angle) * p.y()) + 0.456;
     return latticeFromPlane(x, y);
   };
-  const Remesh remesh = extractRemesh(grid, planarParameterization(grid, map));
+  return extractRemesh(grid, planarParameterization(grid, map));
+}
+
+TEST(ExtractSynthetic, FollowedBoundaryLiesOnTheInputBoundaryAndKeepsTopology) {
+  const TriMesh grid = makeEquilateralGrid(12, 11, 1.0);
+  const Remesh remesh = remeshOfTurnedPatch(grid);
   const TriMesh& out = remesh.triangles;
   EXPECT_TRUE(computeTopology(out).sameAs(computeTopology(grid)));
   EXPECT_EQ(remesh.report.nonManifoldFacesDropped, 0);
@@ -253,6 +259,21 @@ TEST(ExtractSynthetic, FollowedBoundaryLiesOnTheInputBoundaryAndKeepsTopology) {
   const auto [lo, hi] = angleRange(out);
   EXPECT_GT(lo, 15.0);
   EXPECT_LT(hi, 140.0);
+}
+
+TEST(ExtractSynthetic, BoundaryStripLeavesEveryInteriorVertexRegular) {
+  // Without singularities every interior vertex of the remesh, also those next to the boundary,
+  // has valence 6 (the strip gives each front vertex 6 − a samples; the old zip left 35).
+  const Remesh remesh = remeshOfTurnedPatch(makeEquilateralGrid(12, 11, 1.0));
+  const TriMesh& out = remesh.triangles;
+  int irregular = 0, interior = 0;
+  for (const auto v : out.vertices()) {
+    if (out.is_boundary(v)) continue;
+    ++interior;
+    irregular += out.valence(v) == 6 ? 0 : 1;
+  }
+  EXPECT_GT(interior, 100);
+  EXPECT_EQ(irregular, 0);
 }
 
 /// Torus of `around` × `tube` quads with the flat parameterization z(i, j) = i/around · P1 +
