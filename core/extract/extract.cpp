@@ -6,7 +6,6 @@
 #include <cstdint>
 #include <map>
 #include <numeric>
-#include <set>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -441,6 +440,23 @@ std::vector<double> localEdgeLength(const Assembly& out) {
   return sum;
 }
 
+/// Per vertex: the number of distinct neighbours in the triangles.
+std::vector<int> vertexValences(const Assembly& out) {
+  std::vector<std::vector<int>> neighbours(out.positions.size());
+  for (const auto& t : out.triangles)
+    for (int k = 0; k < 3; ++k) {
+      neighbours[t[k]].push_back(t[(k + 1) % 3]);
+      neighbours[t[k]].push_back(t[(k + 2) % 3]);
+    }
+  std::vector<int> valence(out.positions.size(), 0);
+  for (std::size_t v = 0; v < neighbours.size(); ++v) {
+    std::sort(neighbours[v].begin(), neighbours[v].end());
+    valence[v] = static_cast<int>(std::unique(neighbours[v].begin(), neighbours[v].end()) -
+                                  neighbours[v].begin());
+  }
+  return valence;
+}
+
 /// Area-weighted normal of the triangles at each vertex (zero where none).
 std::vector<Eigen::Vector3d> vertexNormals(const Assembly& out) {
   std::vector<Eigen::Vector3d> normal(out.positions.size(), Eigen::Vector3d::Zero());
@@ -524,11 +540,6 @@ void fillGap(const std::vector<int>& loop, Assembly& out, std::vector<Triangle>&
   }
 }
 
-/// Samples the input loops `inputs` at the front's edge length and stitches the strip between
-/// them and the lattice front (step 5). With several input loops, the front visits them one after
-/// the other; their samples are chained into one outer loop, each loop walked once around from
-/// the sample where the front arrives and joined to the next by a bridge edge, so the strip (a
-/// sphere with 1 + k holes) is triangulated in one zip.
 /// Samples up to this many places from a corner share its move (see stitchFrontByValence).
 constexpr int kCornerSpread = 2;
 /// A corner moves the nearest sample at most this many sample spacings; a corner farther from
@@ -536,7 +547,8 @@ constexpr int kCornerSpread = 2;
 constexpr double kCornerReach = 0.5;
 
 /// Stitches a front to its single input loop so that every front vertex gets valence 6 (paper
-/// 5.2: irregular vertices only at singularities). A front vertex with a lattice edges is joined
+/// 5.2: irregular vertices only at singularities). A front vertex with a = latticeValence lattice
+/// edges is joined
 /// to d = max(1, 6 − a) consecutive boundary samples; neighbouring front vertices share one, so
 /// the loop gets Σ(d − 1) samples. The sample shared by two front vertices sits at the middle of
 /// their arc positions on the loop, the others of a front vertex evenly between its shared ones.
@@ -545,22 +557,17 @@ constexpr double kCornerReach = 0.5;
 /// that would reorder the samples, or fewer than 3 samples.
 bool stitchFrontByValence(const BoundaryIndex& index, int loop, int component,
                           const std::vector<int>& front, const std::vector<double>& frontArc,
-                          double spacing, const ExtractOptions& options, Assembly& out,
+                          const std::vector<int>& latticeValence, double spacing,
+                          const ExtractOptions& options, Assembly& out,
                           std::vector<Triangle>& added, std::vector<LoopSamples>& loopSamples,
                           ExtractionReport& report) {
   const std::size_t n = front.size();
   const double length = index.loopLength(loop);
   if (frontArc.back() - frontArc.front() > length) return false;
-  std::map<int, std::set<int>> neighbours;  // lattice neighbours of the front vertices
-  for (const int v : front) neighbours[v];
-  for (const auto& t : out.triangles)
-    for (int k = 0; k < 3; ++k)
-      if (const auto it = neighbours.find(t[k]); it != neighbours.end())
-        it->second.insert({t[(k + 1) % 3], t[(k + 2) % 3]});
   // Front vertex j is joined to samples first[j] .. first[j + 1] (indices modulo the count).
   std::vector<int> first(n + 1, 0);
   for (std::size_t j = 0; j < n; ++j)
-    first[j + 1] = first[j] + std::max(1, 6 - static_cast<int>(neighbours.at(front[j]).size())) - 1;
+    first[j + 1] = first[j] + std::max(1, 6 - latticeValence[front[j]]) - 1;
   const int m = first[n];
   if (m < 3) return false;
 
@@ -658,12 +665,18 @@ bool stitchFrontByValence(const BoundaryIndex& index, int loop, int component,
   return true;
 }
 
+/// Samples the input loops `inputs` at the front's edge length and stitches the strip between
+/// them and the lattice front (step 5). With several input loops, the front visits them one after
+/// the other; their samples are chained into one outer loop, each loop walked once around from
+/// the sample where the front arrives and joined to the next by a bridge edge, so the strip (a
+/// sphere with 1 + k holes) is triangulated in one zip. A front along a single loop is stitched
+/// by valence when it can be (stitchFrontByValence).
 void stitchFront(const BoundaryIndex& index, const std::vector<int>& inputLoopComponent,
                  const std::vector<int>& inputs, std::vector<int> front,
-                 const std::vector<double>& h, const std::vector<Eigen::Vector3d>& normals,
-                 const ExtractOptions& options, Assembly& out, std::vector<Triangle>& added,
-                 std::vector<Triangle>& regular, std::vector<LoopSamples>& loopSamples,
-                 ExtractionReport& report) {
+                 const std::vector<double>& h, const std::vector<int>& latticeValence,
+                 const std::vector<Eigen::Vector3d>& normals, const ExtractOptions& options,
+                 Assembly& out, std::vector<Triangle>& added, std::vector<Triangle>& regular,
+                 std::vector<LoopSamples>& loopSamples, ExtractionReport& report) {
   const std::size_t n = front.size();
   std::vector<double> frontH;
   for (const int v : front) frontH.push_back(h[v]);
@@ -698,7 +711,8 @@ void stitchFront(const BoundaryIndex& index, const std::vector<int>& inputLoopCo
     alignFrontToLoop({arc[0]}, valenceFront, valenceArc, index.loopLength(inputs[0]));
     for (std::size_t j = 1; j < n; ++j) valenceArc[j] = std::max(valenceArc[j], valenceArc[j - 1]);
     if (stitchFrontByValence(index, inputs[0], inputLoopComponent[inputs[0]], valenceFront,
-                             valenceArc, spacing, options, out, regular, loopSamples, report))
+                             valenceArc, latticeValence, spacing, options, out, regular,
+                             loopSamples, report))
       return;
     const auto [samples, sampleArc] = addSamples(inputs[0]);
     alignFrontToLoop(sampleArc, front, arc, index.loopLength(inputs[0]));
@@ -816,6 +830,7 @@ void closeBoundaries(const TriMesh& mesh, const std::vector<int>& faceComponent,
     if (owner[i] < 0 && componentHasLattice[inputLoopComponent[i]]) ++report.unmatchedBoundaryLoops;
 
   const std::vector<Eigen::Vector3d> normals = vertexNormals(out);
+  const std::vector<int> latticeValence = vertexValences(out);
   // Strip and fill triangles: `added` may be flipped; `regular` (stitched by valence) keeps its
   // connectivity, which gives every front vertex valence 6.
   std::vector<Triangle> added, regular;
@@ -831,8 +846,8 @@ void closeBoundaries(const TriMesh& mesh, const std::vector<int>& faceComponent,
       continue;
     }
     const std::size_t before = added.size() + regular.size();
-    stitchFront(index, inputLoopComponent, assigned[l], loops[l], h, normals, options, out, added,
-                regular, loopSamples, report);
+    stitchFront(index, inputLoopComponent, assigned[l], loops[l], h, latticeValence, normals,
+                options, out, added, regular, loopSamples, report);
     report.stripTriangles += static_cast<long long>(added.size() + regular.size() - before);
   }
   std::sort(gaps.begin(), gaps.end());
@@ -904,7 +919,6 @@ void repairNonManifold(Assembly& out, ExtractionReport& report) {
   }
 }
 
-/// Step 6: copies the faces of the components that received no triangle.
 /// Euler characteristic, boundary loops and connected pieces of a triangle set (vertex indices
 /// into any array).
 struct SoupTopology {
@@ -1106,8 +1120,8 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     ScopedTimer timer(report.timings, "surface fit");
     context.report("extract", 0.8);
     context.throwIfCanceled();
-    const ClosestPointQuery inputQuery(mesh);
     if (options.fitToSurface && result.triangles.n_faces() > 0) {
+      const ClosestPointQuery inputQuery(mesh);
       const auto counts = extract_detail::fitRemeshToSurface(mesh, inputQuery, result.triangles,
                                                              options.featureSnapDistance);
       report.featureSnaps = counts.snapped;

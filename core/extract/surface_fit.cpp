@@ -34,18 +34,18 @@ constexpr int kRelaxPasses = 3;
 /// Smoothing's trial moves besides the centroid: directions, and steps in local edge lengths.
 constexpr int kTrialDirections = 8;
 constexpr std::array<double, 3> kTrialSteps{0.1, 0.2, 0.35};
+
 class SurfaceFit {
  public:
   SurfaceFit(const TriMesh& input, const ClosestPointQuery& inputQuery, TriMesh& remesh)
-      : input_(input),
-        remesh_(remesh),
+      : remesh_(remesh),
         inputQuery_(inputQuery),
         locked_(remesh.n_vertices(), 0),
         moved_(remesh.n_vertices(), 0) {
     for (const auto v : remesh_.vertices())
       locked_[v.idx()] = remesh_.is_boundary(v) || remesh_.is_isolated(v);
-    for (const auto v : input_.vertices())
-      if (!input_.is_isolated(v)) inputPoints_.push_back(toEigen(input_.point(v)));
+    for (const auto v : input.vertices())
+      if (!input.is_isolated(v)) inputPoints_.push_back(toEigen(input.point(v)));
   }
 
   /// Assigns the input points to their closest remesh triangles, then one round of feature
@@ -162,7 +162,6 @@ class SurfaceFit {
   }
 
  private:
-  const TriMesh& input_;
   TriMesh& remesh_;
   const ClosestPointQuery& inputQuery_;
   std::vector<char> locked_;  ///< per remesh vertex: boundary, isolated or snapped
