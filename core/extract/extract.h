@@ -33,8 +33,9 @@
 //    not have the component's topology (Euler characteristic, boundary loops, one piece), are
 //    copied unchanged.
 // 7. Fit (surface_fit.h): vertices move over the input surface where the lattice cuts off a
-//    sharp crease or tip (feature snapping) or next to poor triangles (smoothing), when that does
-//    not raise the local deviation from the input; the connectivity stays.
+//    sharp crease or tip (feature snapping), next to poor triangles (smoothing) and where the
+//    angles stray from 60° (relaxation), when that does not raise the local deviation from the
+//    input; the connectivity stays.
 
 #include <vector>
 
@@ -58,8 +59,8 @@ struct ExtractOptions {
   /// Boundary vertices of the input whose boundary turns by more than this many degrees are kept
   /// as output vertices (sharp corners). In [0, 180].
   double sharpBoundaryAngle = 30.0;
-  /// Step 7: fit the remesh to the input surface (feature snapping and smoothing of poor
-  /// triangles). Off: the vertices stay at the lattice points' positions.
+  /// Step 7: fit the remesh to the input surface (feature snapping, smoothing of poor triangles,
+  /// relaxation). Off: the vertices stay at the lattice points' positions.
   bool fitToSurface = true;
   /// Input vertices farther than this many local edge lengths from the remesh pull a remesh
   /// vertex onto themselves (step 7). In [0, 1); 0 disables snapping.
