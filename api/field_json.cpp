@@ -27,7 +27,7 @@ nlohmann::json toJson(const RosyField& field) {
           {"index_sum", static_cast<double>(indexSum) / field.n},
           {"singularity_distance", field.singularityDistance},
           {"singularities", std::move(singularities)},
-          {"seconds", totalSeconds(field.timings)},
+          {"seconds", field.seconds},
           {"timings", std::move(timings)}};
 }
 

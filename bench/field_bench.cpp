@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -50,12 +51,18 @@ struct Row {
 
 int main(int argc, char** argv) {
   std::vector<std::filesystem::path> files;
+  hexcover::FieldOptions options;
   for (int i = 1; i < argc; ++i) {
-    if (argv[i][0] == '-') {
-      std::fprintf(stderr, "usage: bench_field [mesh...]   (default: every shared clean/ mesh)\n");
+    if (std::string(argv[i]) == "--threads" && i + 1 < argc) {
+      options.threads = std::atoi(argv[++i]);
+    } else if (argv[i][0] == '-' || !options.validate().empty()) {
+      std::fprintf(stderr,
+                   "usage: bench_field [--threads T] [mesh...]   (default: 2 threads, every "
+                   "shared clean/ mesh)\n");
       return 2;
+    } else {
+      files.emplace_back(argv[i]);
     }
-    files.emplace_back(argv[i]);
   }
   if (files.empty()) {
     const std::filesystem::path dir = std::filesystem::path(HEXCOVER_SHARED_MESHES) / "clean";
@@ -79,7 +86,7 @@ int main(int argc, char** argv) {
     for (int run = 0; run < kRuns; ++run) {
       const auto start = std::chrono::steady_clock::now();
       const double cpuStart = cpuSeconds();
-      const hexcover::RosyField field = hexcover::computeRosyField(mesh);
+      const hexcover::RosyField field = hexcover::computeRosyField(mesh, options);
       cpu.push_back(cpuSeconds() - cpuStart);
       total.push_back(
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());

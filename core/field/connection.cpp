@@ -107,17 +107,14 @@ ConnectionCorrector::ConnectionCorrector(const TriMesh& mesh, const FieldGeometr
     if (isConstrained(v) && (groupAnchored[root(v)] || v != root(v))) row_[v] = rows++;
   }
   std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(rows + 2 * mesh.n_edges());
+  triplets.reserve(rows + mesh.n_edges());
   std::vector<double> diagonal(rows, 0.0);
   for (const auto eh : mesh.edges()) {
     if (!freeEdge_[eh.idx()] || mesh.is_boundary(eh)) continue;
     const int a = row_[eh.v0().idx()], b = row_[eh.v1().idx()];
     if (a >= 0) diagonal[a] += 1.0;
     if (b >= 0) diagonal[b] += 1.0;
-    if (a >= 0 && b >= 0) {
-      triplets.emplace_back(a, b, -1.0);
-      triplets.emplace_back(b, a, -1.0);
-    }
+    if (a >= 0 && b >= 0) triplets.emplace_back(std::max(a, b), std::min(a, b), -1.0);  // lower
   }
   for (int r = 0; r < rows; ++r) triplets.emplace_back(r, r, diagonal[r]);
   Eigen::SparseMatrix<double> laplacian(rows, rows);

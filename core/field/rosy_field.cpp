@@ -1,10 +1,13 @@
 #include "core/field/rosy_field.h"
 
+#include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <string>
 
+#include "core/common/concurrency.h"
 #include "core/common/error.h"
 #include "core/field/clustering.h"
 #include "core/field/connection.h"
@@ -182,6 +185,8 @@ std::string FieldOptions::validate() const {
     message << "maxMergedIndex must be >= 1, got " << maxMergedIndex;
   else if (boundaryTangentReach < 0 || boundaryTangentReach > 16)
     message << "boundaryTangentReach must be in [0, 16], got " << boundaryTangentReach;
+  else if (threads < 1)
+    message << "threads must be >= 1, got " << threads;
   else if (const auto problem = curvature.validate(); !problem.empty())
     message << "curvature." << problem;
   return message.str();
@@ -223,43 +228,60 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
   };
 
   step(0.0);
+  const auto start = std::chrono::steady_clock::now();
   const field::FieldGeometry geometry =
       timed(timings, "geometry", [&] { return field::FieldGeometry(mesh); });
+
+  // Two independent chains, on two threads when options.threads allows: the constraints (from the
+  // curvature) on one; the connection correction for K̄ and the solve's terms on the other.
   step(0.05);
-  const Curvature curvature =
-      timed(timings, "curvature", [&] { return computeCurvature(mesh, options.curvature); });
-
-  step(0.15);
-  field::SmoothSolveInput input = timed(timings, "constraints", [&] {
-    field::SmoothSolveInput in;
-    in.free.assign(nf, true);
-    in.value.assign(nf, Complex(0.0, 0.0));
-    in.softWeight.assign(nf, 0.0);
-    in.softTarget.assign(nf, Complex(0.0, 0.0));
-    if (options.curvatureConstraints)
-      addCurvatureConstraints(mesh, geometry, curvature, options, in);
-    if (options.boundary == BoundaryAlignment::Tangent)
-      fixBoundaryFaces(mesh, geometry, n, options.boundaryTangentReach, in);
-    return in;
-  });
-
-  step(0.2);
-  // One elimination order per graph (vertices, faces) for every solve of the run.
-  const std::vector<int> vertexOrder =
-      timed(timings, "connection", [&] { return field::vertexGraphOrder(mesh); });
-  const field::ConnectionCorrector corrector = timed(timings, "connection", [&] {
-    return field::ConnectionCorrector(mesh, geometry, field::interiorVertices(mesh),
-                                      field::interiorEdges(mesh), vertexOrder);
-  });
-  const std::vector<double> filtered = timed(timings, "filter_gauss_curvature", [&] {
-    return field::filterGaussCurvature(
-        mesh, geometry, field::filterSteps(mesh, options.curvatureFilterRadius * diagonal));
-  });
+  Timings sideTimings;
+  field::SmoothSolveInput input;
+  field::SmoothnessTerms terms;
+  std::optional<field::EdgeGraph> graph;
+  std::vector<double> density;
+  std::vector<int> vertexOrder;
+  std::vector<double> initialCorrections;
+  const auto curvatureConstraints = [&] {
+    const Curvature curvature =
+        timed(sideTimings, "curvature", [&] { return computeCurvature(mesh, options.curvature); });
+    input = timed(sideTimings, "constraints", [&] {
+      field::SmoothSolveInput in;
+      in.free.assign(nf, true);
+      in.value.assign(nf, Complex(0.0, 0.0));
+      in.softWeight.assign(nf, 0.0);
+      in.softTarget.assign(nf, Complex(0.0, 0.0));
+      if (options.curvatureConstraints)
+        addCurvatureConstraints(mesh, geometry, curvature, options, in);
+      if (options.boundary == BoundaryAlignment::Tangent)
+        fixBoundaryFaces(mesh, geometry, n, options.boundaryTangentReach, in);
+      return in;
+    });
+    // The Gauss curvature density K/A that weighs merged positions (section 3.3).
+    density.assign(mesh.n_vertices(), 0.0);
+    for (std::size_t v = 0; v < density.size(); ++v)
+      density[v] = curvature.area[v] > 0.0 ? curvature.gauss[v] / curvature.area[v] : 0.0;
+    graph.emplace(mesh);
+  };
+  const auto connectionAndTerms = [&] {
+    // One elimination order of the vertex graph for every connection solve of the run.
+    vertexOrder = timed(timings, "connection", [&] { return field::vertexGraphOrder(mesh); });
+    const field::ConnectionCorrector corrector = timed(timings, "connection", [&] {
+      return field::ConnectionCorrector(mesh, geometry, field::interiorVertices(mesh),
+                                        field::interiorEdges(mesh), vertexOrder);
+    });
+    const std::vector<double> filtered = timed(timings, "filter_gauss_curvature", [&] {
+      return field::filterGaussCurvature(
+          mesh, geometry, field::filterSteps(mesh, options.curvatureFilterRadius * diagonal));
+    });
+    initialCorrections =
+        timed(timings, "filter_gauss_curvature", [&] { return corrector.corrections(filtered); });
+    terms = timed(timings, "initial_solve", [&] { return field::smoothnessTerms(mesh); });
+  };
+  runBoth(options.threads, connectionAndTerms, curvatureConstraints);
+  timings.insert(timings.end(), sideTimings.begin(), sideTimings.end());
 
   step(0.3);
-  const std::vector<double> initialCorrections = corrector.corrections(filtered);
-  const field::SmoothnessTerms terms =
-      timed(timings, "initial_solve", [&] { return field::smoothnessTerms(mesh); });
   const std::vector<Complex> initial = timed(timings, "initial_solve", [&] {
     return field::solveSmoothField(terms, geometry.transport, initialCorrections, n, input);
   });
@@ -275,11 +297,7 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
   // remaining singularities. The smooth re-solve places a singularity on a neighbouring vertex or
   // leaves a close ± pair now and then, so the rounds repeat on the new field (R shrinks to the
   // new collapses) until nothing is collapsed or kClusteringRounds is reached.
-  std::vector<double> density(mesh.n_vertices(), 0.0);
-  for (std::size_t v = 0; v < density.size(); ++v)
-    density[v] = curvature.area[v] > 0.0 ? curvature.gauss[v] / curvature.area[v] : 0.0;
-  const field::EdgeGraph graph(mesh);
-  const ClusterSolveInputs inputs{terms, graph, vertexOrder, input.free};
+  const ClusterSolveInputs inputs{terms, *graph, vertexOrder, input.free};
   RosyField result = std::move(initialField);
   ClusterSolveState state{initial, initialCorrections, std::vector<bool>(nf, true),
                           std::vector<double>(mesh.n_edges(), 0.0)};
@@ -296,8 +314,8 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
         nodes.push_back({s.vertex, s.index});
         settled.push_back(!previousIndex.empty() && previousIndex[s.vertex] == s.index);
       }
-      return field::clusterSingularities(mesh, graph, nodes, density, dSing, options.maxMergedIndex,
-                                         settled);
+      return field::clusterSingularities(mesh, *graph, nodes, density, dSing,
+                                         options.maxMergedIndex, settled);
     });
     // Stop when a round does not collapse fewer pairs than the one before: the re-solve is then
     // recreating the pairs it cancels (see the known limitation in rosy_field.h).
@@ -315,6 +333,7 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
   result.singularitiesInitial = initialCount;
   result.singularityDistance = dSing;
   result.timings = std::move(timings);
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   context.report("field", 1.0);
   return result;
 }

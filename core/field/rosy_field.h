@@ -66,6 +66,7 @@ struct RosyField {
   int eulerCharacteristic = 0;                 ///< χ = Σ over components = Σ I / N
   double singularityDistance = 0.0;            ///< d_sing used by clustering (mesh units)
   Timings timings;                             ///< per step: geometry, curvature, ...
+  double seconds = 0.0;  ///< wall time (less than the sum of the steps: two run concurrently)
 };
 
 /// What one field direction does along mesh boundaries.
@@ -101,6 +102,9 @@ struct FieldOptions {
   /// before it to the one `reach` steps after it (0: the edge itself). Smooths the zigzags of
   /// scanned boundaries, each of which would otherwise be a boundary singularity.
   int boundaryTangentReach = 1;
+  /// Threads: with 2 or more, the curvature and the constraints are computed while the
+  /// connection is corrected for K̄. The result is the same for any count.
+  int threads = 2;
 
   /// Empty when valid; otherwise names the bad option and its valid range.
   std::string validate() const;
@@ -121,12 +125,13 @@ struct FieldOptions {
 /// that is not contractible on the surface, the correction does not control the holonomy along it,
 /// and the re-solve may bring cancelled pairs back. Every component is solved on its own terms (its
 /// own constraints, or its smoothest field when it has none). Deterministic: the same mesh and
-/// options give the same bytes. Poincaré–Hopf is checked per component after every solve
-/// (std::logic_error on failure: a bug). Timings: geometry, curvature, constraints, connection,
-/// filter_gauss_curvature, initial_solve, initial_singularities, then per clustering round
-/// clustering, cluster_solve, cluster_singularities. Throws Error(InvalidOption) for invalid
-/// options, Error(InvalidMesh) for a mesh without faces, Error(NumericalFailure) if a factorization
-/// fails, Error(Canceled) when `context` asks.
+/// options give the same bytes, whatever options.threads. Poincaré–Hopf is checked per component
+/// after every solve (std::logic_error on failure: a bug). Timings: geometry, connection,
+/// filter_gauss_curvature, curvature, constraints (the last two concurrently with the connection
+/// and the filter), initial_solve, initial_singularities, then per clustering round clustering,
+/// cluster_solve, cluster_singularities. Throws Error(InvalidOption) for invalid options,
+/// Error(InvalidMesh) for a mesh without faces, Error(NumericalFailure) if a factorization fails,
+/// Error(Canceled) when `context` asks.
 RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options = {},
                            const RunContext& context = {});
 

@@ -66,7 +66,7 @@ std::vector<Complex> solveSmoothField(const SmoothnessTerms& terms,
   const auto soft = [&](int f) { return input.softWeight.empty() ? 0.0 : input.softWeight[f]; };
 
   std::vector<Eigen::Triplet<Complex>> triplets;
-  triplets.reserve(3 * terms.weight.size() + m);
+  triplets.reserve(terms.weight.size() + m);
   std::vector<double> diagonal(m, 0.0);
   Eigen::VectorXcd rhs = Eigen::VectorXcd::Zero(m);
   for (std::size_t t = 0; t < terms.weight.size(); ++t) {
@@ -79,8 +79,11 @@ std::vector<Complex> solveSmoothField(const SmoothnessTerms& terms,
     if (i0 >= 0) diagonal[i0] += w;
     if (i1 >= 0) diagonal[i1] += w;
     if (i0 >= 0 && i1 >= 0) {  // ∂E/∂ū1 = w (u1 − r u0), ∂E/∂ū0 = w (u0 − r̄ u1)
-      triplets.emplace_back(i1, i0, -w * r);
-      triplets.emplace_back(i0, i1, -w * std::conj(r));
+      // Only the lower triangle is factorized: entry (i1, i0) = −w r, (i0, i1) = −w r̄.
+      if (i1 > i0)
+        triplets.emplace_back(i1, i0, -w * r);
+      else
+        triplets.emplace_back(i0, i1, -w * std::conj(r));
       const int a = findRoot(parent, i0), b = findRoot(parent, i1);
       if (a != b) parent[std::max(a, b)] = std::min(a, b);
     } else if (i0 >= 0) {

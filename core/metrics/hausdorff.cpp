@@ -7,10 +7,10 @@
 #include <limits>
 #include <numeric>
 #include <string>
-#include <thread>
 #include <unordered_map>
 #include <vector>
 
+#include "core/common/concurrency.h"
 #include "core/common/error.h"
 
 namespace hexcover {
@@ -18,28 +18,7 @@ namespace {
 
 using Vec3 = Eigen::Vector3d;
 
-/// Runs body(i) for i in [0, count) on up to `threads` threads, in contiguous chunks.
-template <typename Body>
-void parallelFor(std::size_t count, int threads, const Body& body) {
-  const std::size_t workers =
-      std::min<std::size_t>(std::max(1, threads), std::max<std::size_t>(1, count / 2048));
-  if (workers <= 1) {
-    for (std::size_t i = 0; i < count; ++i) body(i);
-    return;
-  }
-  std::vector<std::thread> pool;
-  pool.reserve(workers);
-  for (std::size_t w = 0; w < workers; ++w) {
-    pool.emplace_back([&, w] {
-      const std::size_t begin = count * w / workers, end = count * (w + 1) / workers;
-      for (std::size_t i = begin; i < end; ++i) body(i);
-    });
-  }
-  for (auto& t : pool) t.join();
-}
-
 }  // namespace
-
 
 // ---------------------------------------------------------------------------------------------
 // Sampling and refinement of one surface against another
