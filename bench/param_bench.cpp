@@ -157,7 +157,9 @@ int main(int argc, char** argv) {
         const std::string name = "clean/" + file.filename().string();
         if (!wanted(name)) continue;
         const TriMesh mesh = loadMesh(file);
-        const RosyField field = computeRosyField(mesh);
+        FieldOptions fieldOptions;
+        fieldOptions.maxMergedIndex = kMergedIndexForLattice;
+        const RosyField field = computeRosyField(mesh, fieldOptions);
         rows.push_back(benchmark(name, mesh, field, runs));
       }
     } else {

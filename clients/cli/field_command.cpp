@@ -1,6 +1,7 @@
-// `hexcover field MESH [--rosy 6|4] [--d-sing X] [--no-clustering] [--free-boundary]
-// [-o FIELD.ply]`: the geometry-aware N-RoSy field of a mesh (paper section 3) as one JSON object on
-// stdout; -o writes a PLY that any mesh viewer shows: the mesh with its singular vertices coloured
+// `hexcover field MESH [--rosy 6|4] [--d-sing X] [--max-merged-index K] [--no-clustering]
+// [--free-boundary] [-o FIELD.ply]`: the geometry-aware N-RoSy field of a mesh (paper section 3)
+// as one JSON object on stdout (clustered as in the paper unless --max-merged-index K limits merged
+// singularities to |I| ≤ K, as the remesh pipeline does with K = 1); -o writes a PLY that any mesh viewer shows: the mesh with its singular vertices coloured
 // by index (red positive, blue negative, darker for |I| > 1) and, in every face, short segments
 // along the N field directions (thin quads; the representative direction in orange).
 
@@ -123,7 +124,7 @@ void writeFieldPly(const TriMesh& mesh, const RosyField& field, const std::strin
 }  // namespace
 
 int runField(int argc, char** argv) {
-  const Arguments args(argc, argv, 2, {"--rosy", "--d-sing", "-o"},
+  const Arguments args(argc, argv, 2, {"--rosy", "--d-sing", "--max-merged-index", "-o"},
                        {"--no-clustering", "--free-boundary"});
   const std::string& path = args.positional(0, "MESH");
   args.expectPositionalCount(1);
@@ -135,6 +136,11 @@ int runField(int argc, char** argv) {
   if (const auto dSing = args.number("--d-sing")) {
     if (!(*dSing > 0.0)) throw UsageError("--d-sing must be a positive distance in mesh units");
     options.singularityDistance = *dSing;
+  }
+  if (const auto maxIndex = args.integer("--max-merged-index")) {
+    if (*maxIndex < 0 || *maxIndex > 1000)
+      throw UsageError("--max-merged-index must be between 0 (no limit) and 1000");
+    options.maxMergedIndex = static_cast<int>(*maxIndex);
   }
   options.clusterSingularities = !args.has("--no-clustering");
   if (args.has("--free-boundary")) options.boundary = BoundaryAlignment::Free;
@@ -151,6 +157,7 @@ int runField(int argc, char** argv) {
   json.update(toJson(field));
   json["seconds"] = std::chrono::duration<double>(end - fieldStart).count();
   json["load_seconds"] = std::chrono::duration<double>(fieldStart - loadStart).count();
+  json["max_merged_index"] = options.maxMergedIndex;
   if (const auto output = args.value("-o")) {
     writeFieldPly(mesh, field, *output);
     json["output"] = *output;

@@ -32,7 +32,9 @@ constexpr Subcommand kSubcommands[] = {
      "remesh IN -o OUT [--edge-length h | --vertices K] [--rosy 6|4] [--sizing uniform|curvature] "
      "[--hex OUT_HEX] [--textured OUT_OBJ] [--metrics METRICS.json] [--quiet]",
      runRemesh},
-    {"field", "field MESH [--rosy 6|4] [--d-sing X] [--no-clustering] [--free-boundary] [-o FIELD.ply]",
+    {"field",
+     "field MESH [--rosy 6|4] [--d-sing X] [--max-merged-index K] [--no-clustering] "
+     "[--free-boundary] [-o FIELD.ply]",
      runField},
     {"param",
      "param MESH -o TEXTURED.obj [--edge-length h | --vertices K] [--rosy 6|4] "

@@ -35,6 +35,7 @@ int runParam(int argc, char** argv) {
   if (args.has("--edge-length") && args.has("--vertices"))
     throw UsageError("give --edge-length or --vertices, not both");
   FieldOptions fieldOptions;
+  fieldOptions.maxMergedIndex = kMergedIndexForLattice;
   if (const auto rosy = args.integer("--rosy")) {
     if (*rosy != 6 && *rosy != 4) throw UsageError("--rosy must be 6 or 4");
     fieldOptions.n = static_cast<int>(*rosy);

@@ -34,9 +34,11 @@ struct ClusterNode {
 };
 
 /// The merge rule of clusterSingularities: the merged index |I_a + I_b| may exceed maxIndex only
-/// when it lowers the larger |I| of the pair (a +4/N needle absorbing a −1/N).
+/// when it lowers the larger |I| of the pair (a +4/N needle absorbing a −1/N); maxIndex 0 allows
+/// every merge.
 inline bool mayMerge(const ClusterNode& a, const ClusterNode& b, int maxIndex) {
-  return std::abs(a.index + b.index) <= std::max({maxIndex, std::abs(a.index), std::abs(b.index)});
+  return maxIndex == 0 ||
+         std::abs(a.index + b.index) <= std::max({maxIndex, std::abs(a.index), std::abs(b.index)});
 }
 
 struct ClusteringResult {

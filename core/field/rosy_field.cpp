@@ -181,8 +181,8 @@ std::string FieldOptions::validate() const {
             << singularityDistance;
   else if (!(singularityDistanceFraction > 0.0 && singularityDistanceFraction <= 1.0))
     message << "singularityDistanceFraction must be in (0, 1], got " << singularityDistanceFraction;
-  else if (maxMergedIndex < 1)
-    message << "maxMergedIndex must be >= 1, got " << maxMergedIndex;
+  else if (maxMergedIndex < 0)
+    message << "maxMergedIndex must be >= 0 (0: no limit), got " << maxMergedIndex;
   else if (boundaryTangentReach < 0 || boundaryTangentReach > 16)
     message << "boundaryTangentReach must be in [0, 16], got " << boundaryTangentReach;
   else if (threads < 1)

@@ -92,11 +92,11 @@ struct FieldOptions {
   /// d_sing in mesh units; 0 means singularityDistanceFraction × bounding-box diagonal.
   double singularityDistance = 0.0;
   double singularityDistanceFraction = 0.1;  ///< the paper's 0.1 B
-  /// Largest |I| a merge may create, unless it lowers the larger |I| of the pair. 1 keeps every
-  /// merged singularity at index ±1/N, whose fixed point is a lattice point in the
-  /// parameterization (±2/6 is best placed at ⅓ lattice points, which are not supported); pairs
-  /// of +1/N then stay closer than d_sing. Set higher to allow higher-order merges.
-  int maxMergedIndex = 1;
+  /// Largest |I| a merge may create, unless it lowers the larger |I| of the pair; 0: no limit
+  /// (the paper: every pair closer than d_sing is merged). The parameterization sets 1
+  /// (kMergedIndexForLattice in core/param/hexcover.h): every merged singularity then has index
+  /// ±1/N, whose fixed point is a lattice point, and pairs of +1/N may stay closer than d_sing.
+  int maxMergedIndex = 0;
   BoundaryAlignment boundary = BoundaryAlignment::Tangent;
   /// With Tangent: a boundary edge's tangent is the chord from the boundary vertex `reach` steps
   /// before it to the one `reach` steps after it (0: the edge itself). Smooths the zigzags of

@@ -99,6 +99,11 @@ std::vector<double> smoothSizing(const TriMesh& mesh, const std::vector<double>&
 /// and more distant ones cost fewer irregular vertices.
 inline constexpr double kSingularityDistanceInEdges = 6.0;
 
+/// FieldOptions::maxMergedIndex of the field for a parameterization (the remesh pipeline and
+/// `hexcover param`): merges stop at index ±1/N, whose fixed point is a lattice point; a ±2/6 is
+/// best placed at a ⅓ lattice point, which the rounding of section 4.4 does not support.
+inline constexpr int kMergedIndexForLattice = 1;
+
 /// The radius of smoothSizing for curvature sizing, in uniform edge lengths (pipeline and CLI).
 inline constexpr double kSizingSmoothingInEdges = 5.0;
 

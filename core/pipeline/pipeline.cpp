@@ -102,6 +102,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
     FieldOptions fieldOptions;
     fieldOptions.n = options.rosy;
     fieldOptions.singularityDistance = result.singularityDistance;
+    fieldOptions.maxMergedIndex = kMergedIndexForLattice;
     if (const std::string problem = fieldOptions.validate(); !problem.empty())
       throw Error(ErrorCode::InvalidOption, problem);
     // d_sing = 0 means "no clustering" to the caller; the field reads 0 as "use the default".

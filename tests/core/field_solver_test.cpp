@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "core/common/error.h"
 #include "core/field/clustering.h"
@@ -52,6 +53,9 @@ Eigen::Vector3d faceNormal(const TriMesh& mesh, TriMesh::FaceHandle fh) {
 
 /// Ordered pairs of interior singularities closer than d_sing whose merge clustering allows
 /// (it would not raise |I| above maxMergedIndex, or it lowers the larger |I|).
+/// FieldOptions::maxMergedIndex of the fields for a parameterization (kMergedIndexForLattice).
+constexpr int kUnitMergesOnly = 1;
+
 int closeMergeablePairs(const TriMesh& mesh, const RosyField& field, int maxMergedIndex) {
   const field::EdgeGraph graph(mesh);
   int pairs = 0;
@@ -278,21 +282,27 @@ TEST(FieldSolver, IndexSumsEqualEulerCharacteristicOnSharedMeshes) {
   }
 }
 
-TEST(FieldSolver, ClusteringOnTheBunnyLeavesNoCloseMergeablePairs) {
+TEST(FieldSolver, ClusteringOnTheBunnyLeavesNoTwoSingularitiesCloserThanDSing) {
   HEXCOVER_SHARED_MESH_OR_SKIP(path, "clean/stanford-bunny.obj");
   const TriMesh mesh = loadMesh(path);
   FieldOptions options;
   options.clusterSingularities = false;
   const RosyField unclustered = computeRosyField(mesh, options);
   options.clusterSingularities = true;
-  const RosyField field = computeRosyField(mesh, options);
+  const RosyField field = computeRosyField(mesh, options);  // the paper's merges
+  options.maxMergedIndex = kUnitMergesOnly;
+  const RosyField lattice = computeRosyField(mesh, options);
 
-  EXPECT_EQ(field.singularitiesInitial, static_cast<int>(unclustered.singularities.size()));
-  EXPECT_LT(field.singularities.size(), unclustered.singularities.size());
-  EXPECT_EQ(indexSum(field), indexSum(unclustered));
-  EXPECT_EQ(indexSum(field), 6 * field.eulerCharacteristic);
-
-  EXPECT_EQ(closeMergeablePairs(mesh, field, options.maxMergedIndex), 0);
+  for (const RosyField* clustered : {&field, &lattice}) {
+    EXPECT_EQ(clustered->singularitiesInitial, static_cast<int>(unclustered.singularities.size()));
+    EXPECT_LT(clustered->singularities.size(), unclustered.singularities.size());
+    EXPECT_EQ(indexSum(*clustered), indexSum(unclustered));
+    EXPECT_EQ(indexSum(*clustered), 6 * clustered->eulerCharacteristic);
+  }
+  EXPECT_EQ(closeMergeablePairs(mesh, field, std::numeric_limits<int>::max()), 0);
+  // With merges limited to |I| = 1, only pairs whose merge the limit forbids stay closer.
+  EXPECT_EQ(closeMergeablePairs(mesh, lattice, kUnitMergesOnly), 0);
+  EXPECT_GT(closeMergeablePairs(mesh, lattice, std::numeric_limits<int>::max()), 0);
 }
 
 TEST(FieldSolver, NeedleVerticesLeaveNoClustersOnFeline) {
@@ -301,11 +311,14 @@ TEST(FieldSolver, NeedleVerticesLeaveNoClustersOnFeline) {
   // came back (12 singularities with |I| > 1, pairs closer than d_sing).
   HEXCOVER_SHARED_MESH_OR_SKIP(path, "clean/feline.off");
   const TriMesh mesh = loadMesh(path);
-  const RosyField field = computeRosyField(mesh);
+  FieldOptions options;
+  options.maxMergedIndex = kUnitMergesOnly;
+  const RosyField field = computeRosyField(mesh, options);
   EXPECT_EQ(indexSum(field), 6 * field.eulerCharacteristic);
-  for (const auto& s : field.singularities)
+  for (const auto& s : field.singularities) {
     if (!s.onBoundary) EXPECT_LE(std::abs(s.index), 1) << "vertex " << s.vertex;
-  EXPECT_EQ(closeMergeablePairs(mesh, field, FieldOptions{}.maxMergedIndex), 0);
+  }
+  EXPECT_EQ(closeMergeablePairs(mesh, field, kUnitMergesOnly), 0);
 }
 
 }  // namespace

@@ -2,15 +2,15 @@
 // lattice points, a cut graph that opens every component into a disk, alignment with the field,
 // scale, fold-over counts, on generated meshes with prescribed fields.
 
-#include <array>
-#include <thread>
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <set>
+#include <thread>
 
 #include "core/common/error.h"
 #include "core/field/rosy_field.h"
@@ -27,6 +27,13 @@ namespace {
 
 using test::faceCentroid;
 using test::icosahedralField;
+
+/// The field as the pipeline computes it for a parameterization.
+FieldOptions latticeFieldOptions() {
+  FieldOptions options;
+  options.maxMergedIndex = kMergedIndexForLattice;
+  return options;
+}
 
 /// Torus: the direction of the major circle, a field without singularities. It has curl (unit
 /// speed around circles of different radii), so the parameterization cannot follow it exactly;
@@ -146,7 +153,8 @@ FaceGradients faceGradients(const TriMesh& mesh, const Parameterization& p) {
 }
 
 /// Area-weighted mean angle (degrees) between ∇u and the nearest of the N field directions.
-double meanAlignmentDegrees(const TriMesh& mesh, const RosyField& field, const Parameterization& p) {
+double meanAlignmentDegrees(const TriMesh& mesh, const RosyField& field,
+                            const Parameterization& p) {
   const FaceGradients g = faceGradients(mesh, p);
   double sum = 0.0, area = 0.0;
   for (const auto fh : mesh.faces()) {
@@ -185,7 +193,8 @@ double meanLatticeUnitLength(const TriMesh& mesh, const Parameterization& p) {
 
 void expectCutOpensToDisks(const TriMesh& mesh, const RosyField& field) {
   const CutGraph cut = computeCutGraph(mesh, field);
-  const auto chi = cutMeshEulerCharacteristic(mesh, cut.cutEdge, cut.faceComponent, cut.componentCount);
+  const auto chi =
+      cutMeshEulerCharacteristic(mesh, cut.cutEdge, cut.faceComponent, cut.componentCount);
   for (int c = 0; c < cut.componentCount; ++c) EXPECT_EQ(chi[c], 1) << "component " << c;
   for (const auto eh : mesh.edges())
     if (!cut.cutEdge[eh.idx()]) EXPECT_EQ(cut.combedMatching[eh.idx()], 0);
@@ -304,7 +313,7 @@ TEST(HexCover, QuadModeOnSphereKeepsSingularitiesOnGaussIntegers) {
   // Index ±1/4 singularities: I − R is not unimodular for 90°, so the integer elimination needs
   // its unimodular changes of variables here.
   const TriMesh mesh = makeIcosphere(3);
-  FieldOptions fieldOptions;
+  FieldOptions fieldOptions = latticeFieldOptions();
   fieldOptions.n = 4;
   const RosyField field = computeRosyField(mesh, fieldOptions);
   ASSERT_FALSE(field.singularities.empty());
@@ -491,7 +500,7 @@ class HexCoverSharedMesh : public testing::TestWithParam<const char*> {};
 TEST_P(HexCoverSharedMesh, IsSeamlessWithoutFoldOversAtTheDefaultEdgeLength) {
   HEXCOVER_SHARED_MESH_OR_SKIP(path, std::string("clean/") + GetParam());
   const TriMesh mesh = loadMesh(path);
-  const RosyField field = computeRosyField(mesh);
+  const RosyField field = computeRosyField(mesh, latticeFieldOptions());
   const Parameterization p = computeParameterization(mesh, field, ParamOptions{});
   expectSeamless(mesh, p);
   expectSingularitiesOnLattice(mesh, field, p);
@@ -521,7 +530,8 @@ TEST(HexCoverFoldOvers, AreRelaxedLocallyWithoutAGlobalReSolve) {
   for (const char* name : {"bunny_7k.off", "camelhead.off"}) {
     HEXCOVER_SHARED_MESH_OR_SKIP(path, std::string("clean/") + name);
     const TriMesh mesh = loadMesh(path);
-    const Parameterization p = computeParameterization(mesh, computeRosyField(mesh), ParamOptions{});
+    const Parameterization p = computeParameterization(
+        mesh, computeRosyField(mesh, latticeFieldOptions()), ParamOptions{});
     SCOPED_TRACE(name);
     EXPECT_GT(p.flippedBeforeStiffening, 0);
     EXPECT_GT(p.localRelaxations, 0);
@@ -538,7 +548,7 @@ TEST(HexCoverFoldOvers, AreRelaxedLocallyWithoutAGlobalReSolve) {
 TEST(HexCoverFoldOvers, FelineHasNoneWithSingularitiesClusteredAtTheDefaultDistance) {
   HEXCOVER_SHARED_MESH_OR_SKIP(path, "clean/feline.off");
   const TriMesh mesh = loadMesh(path);
-  FieldOptions fieldOptions;
+  FieldOptions fieldOptions = latticeFieldOptions();
   fieldOptions.singularityDistance =
       kSingularityDistanceInEdges *
       edgeLengthForVertexCount(mesh, static_cast<int>(mesh.n_vertices()) / 4, 6);
