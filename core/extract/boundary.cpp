@@ -1,10 +1,11 @@
 #include "core/extract/boundary.h"
 
-#include <unordered_set>
-
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <unordered_set>
+
+#include "core/extract/fan_geometry.h"
 
 namespace hexcover::extract_detail {
 namespace {
@@ -313,14 +314,20 @@ double minimumAngle(const std::vector<Eigen::Vector3d>& p, const Triangle& t) {
   return smallest;
 }
 
-/// Largest deviation of an angle of t from 60°, radians.
-double angleDeviation(const std::vector<Eigen::Vector3d>& p, const Triangle& t) {
-  double largest = 0.0;
+/// angleBadness of triangle t (fan_geometry.h): its angles' distance from 60° relative to the
+/// floors.
+double triangleBadness(const std::vector<Eigen::Vector3d>& p, const Triangle& t) {
+  return angleBadness(angleRange({p[t[0]], p[t[1]], p[t[2]]}));
+}
+
+/// Σ (α − 60°)² over the angles α of triangle t (degrees²).
+double squaredAngleDeviation(const std::vector<Eigen::Vector3d>& p, const Triangle& t) {
+  double sum = 0.0;
   for (int k = 0; k < 3; ++k) {
-    const Eigen::Vector3d u = p[t[(k + 1) % 3]] - p[t[k]], v = p[t[(k + 2) % 3]] - p[t[k]];
-    largest = std::max(largest, std::abs(std::atan2(u.cross(v).norm(), u.dot(v)) - M_PI / 3.0));
+    const double a = angleAt(p[t[k]], p[t[(k + 1) % 3]], p[t[(k + 2) % 3]]) - 60.0;
+    sum += a * a;
   }
-  return largest;
+  return sum;
 }
 
 Eigen::Vector3d areaNormal(const std::vector<Eigen::Vector3d>& p, const Triangle& t) {
@@ -395,19 +402,25 @@ int slideBoundarySamples(const BoundaryIndex& index, std::vector<LoopSamples>& s
       if (const auto it = triangles.find(v); it != triangles.end())
         it->second.push_back(static_cast<int>(i));
   }
-  // Over the vertex's triangles: the largest deviation of an angle from 60° and the smallest
-  // angle; nullopt when one turns against its former normal.
-  struct Quality {
-    double deviation = 0.0, smallest = M_PI;
+  // Over the vertex's triangles: the largest angleBadness, and (between positions with the same
+  // largest one) the sum of the squared deviations of the angles from 60°; nullopt when one turns
+  // against its former normal.
+  struct Badness {
+    double worst = 0.0, sumOfSquares = 0.0;
+    bool betterThan(const Badness& other) const {
+      constexpr double kTie = 1e-9;
+      return worst < other.worst - kTie ||
+             (worst <= other.worst + kTie && sumOfSquares < other.sumOfSquares - kTie);
+    }
   };
-  const auto quality = [&](int v) -> std::optional<Quality> {
-    Quality q;
+  const auto badness = [&](int v) -> std::optional<Badness> {
+    Badness b;
     for (const int i : triangles.at(v)) {
       if (!(areaNormal(positions, region[i]).dot(normal[i]) > 0.0)) return std::nullopt;
-      q.deviation = std::max(q.deviation, angleDeviation(positions, region[i]));
-      q.smallest = std::min(q.smallest, minimumAngle(positions, region[i]));
+      b.worst = std::max(b.worst, triangleBadness(positions, region[i]));
+      b.sumOfSquares += squaredAngleDeviation(positions, region[i]);
     }
-    return q;
+    return b;
   };
   int moves = 0;
   for (int pass = 0; pass < kPasses; ++pass)
@@ -426,16 +439,16 @@ int slideBoundarySamples(const BoundaryIndex& index, std::vector<LoopSamples>& s
         const double upper = after - kClearance * loop.spacing;
         if (!(lower < upper)) continue;
         const Eigen::Vector3d original = positions[v];
-        const std::optional<Quality> start = quality(v);
+        const std::optional<Badness> start = badness(v);
         if (!start) continue;
-        double bestArc = loop.arc[k], best = start->deviation;
+        double bestArc = loop.arc[k];
+        Badness best = *start;
         for (int c = 0; c <= kCandidates; ++c) {
           const double s = lower + (upper - lower) * c / kCandidates;
           const double wrapped = s - length * std::floor(s / length);
           positions[v] = index.pointAt(loop.loop, wrapped);
-          const std::optional<Quality> q = quality(v);
-          if (q && q->deviation < best - 1e-9)
-            best = q->deviation, bestArc = wrapped;
+          const std::optional<Badness> b = badness(v);
+          if (b && b->betterThan(best)) best = *b, bestArc = wrapped;
         }
         positions[v] = bestArc == loop.arc[k] ? original : index.pointAt(loop.loop, bestArc);
         if (bestArc != loop.arc[k]) ++moves;

@@ -79,7 +79,8 @@ struct LoopSamples {
 
 /// Slides every sample that is not a corner along its input loop, between its neighbours (kept
 /// 0.3 spacings away, so samples never crowd), to the best of 16 evenly spaced positions: the
-/// one whose triangles in `region` have the smallest largest deviation of an angle from 60°, none
+/// one whose triangles in `region` have the smallest largest angleBadness (fan_geometry.h; ties:
+/// the smallest sum of the squared deviations of the angles from 60°), none
 /// turned against its normal before the slide. Two passes; the output boundary stays on the input boundary. Updates `positions`
 /// and the samples' arcs; returns the number of moves.
 int slideBoundarySamples(const BoundaryIndex& index, std::vector<LoopSamples>& samples,

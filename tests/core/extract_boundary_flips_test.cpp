@@ -3,9 +3,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "core/extract/boundary.h"
+#include "core/extract/fan_geometry.h"
 
 namespace hexcover::extract_detail {
 namespace {
@@ -97,6 +100,35 @@ TEST(BoundarySlides, NeverCrowdTheirNeighbours) {
                                        {true, false, true, true, true, true}}};
   EXPECT_EQ(slideBoundarySamples(index, samples, region, positions), 0);
   EXPECT_EQ(positions[4], Eigen::Vector3d(0.1, 0, 0));
+}
+
+// A sample 0.3 spacings from a sharp corner, under a front vertex close to the corner: its
+// smallest angle is 15.7° (the bunny's holes had such a triangle). Weighing the largest deviation
+// from 60° on both sides alike kept it there (the other side's largest angle is 103.8°); weighed
+// against the floors (20° and 130°), the slide trades: 24.3° and 117.8°.
+TEST(BoundarySlides, RaiseASmallAngleAtACornerWithinTheFloors) {
+  const std::vector<Eigen::Vector3d> rectangle = {{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {0, 1, 0}};
+  const BoundaryIndex index({rectangle}, 0.5);
+  std::vector<Eigen::Vector3d> positions = rectangle;
+  positions.push_back({0.3, 0, 0});     // 4: the sample
+  positions.push_back({0.03, 0.32, 0});  // 5, 6: front vertices
+  positions.push_back({1.51, 0.6, 0});
+  const std::vector<Triangle> region = {{0, 4, 5}, {4, 1, 6}, {4, 6, 5}};
+  const auto angles = [&] {
+    std::array<double, 2> range{180.0, 0.0};
+    for (const auto& t : region) {
+      const auto r = angleRange({positions[t[0]], positions[t[1]], positions[t[2]]});
+      range = {std::min(range[0], r[0]), std::max(range[1], r[1])};
+    }
+    return range;
+  };
+  ASSERT_LT(angles()[0], 16.0);
+  std::vector<LoopSamples> samples = {
+      {0, 1.0, {0, 4, 1, 2, 3}, {0.0, 0.3, 2.0, 3.0, 5.0}, {true, false, true, true, true}}};
+  EXPECT_GE(slideBoundarySamples(index, samples, region, positions), 1);
+  EXPECT_GT(angles()[0], 20.0);
+  EXPECT_LT(angles()[1], 130.0);
+  EXPECT_NEAR(positions[4].y(), 0.0, 1e-12) << "on the boundary";
 }
 
 }  // namespace
