@@ -34,8 +34,10 @@ struct DistanceOptions {
   /// for the mean and RMS distance.
   std::size_t minSamples = 4096;
   /// Upper limit on distance queries per direction; when refinement reaches it, the sampled
-  /// maximum is reported with the bound reached (`certified` = false).
-  std::size_t maxSamples = 2'000'000;
+  /// maximum is reported with the bound reached (`certified` = false). Surfaces that are close
+  /// everywhere reach it (an icosphere and its remesh: 0.032%, bound 0.054%); 500K instead of 2M
+  /// took their metrics from 1.7 s to 0.43 s with the same sampled maximum.
+  std::size_t maxSamples = 500'000;
   /// Worker threads for the queries (results are identical for any count).
   int threads = 2;
 
