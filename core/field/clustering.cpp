@@ -8,6 +8,8 @@
 #include <tuple>
 #include <utility>
 
+#include "core/common/concurrency.h"
+
 namespace hexcover::field {
 namespace {
 
@@ -111,7 +113,7 @@ std::vector<double> edgeGraphDistances(const EdgeGraph& graph, const std::vector
 ClusteringResult clusterSingularities(const TriMesh& mesh, const EdgeGraph& graph,
                                       const std::vector<ClusterNode>& initial,
                                       const std::vector<double>& gaussDensity, double dSing,
-                                      int maxIndex, const std::vector<bool>& settled) {
+                                      int maxIndex, const std::vector<bool>& settled, int threads) {
   GeodesicBall ball(graph);
   std::vector<ClusterNode> nodes = initial;
   std::vector<bool> alive(nodes.size(), true);
@@ -122,16 +124,36 @@ ClusteringResult clusterSingularities(const TriMesh& mesh, const EdgeGraph& grap
   // Candidate edges of the singularity graph shorter than d_sing: (length, a, b) with a < b.
   using Candidate = std::tuple<double, int, int>;
   std::priority_queue<Candidate, std::vector<Candidate>, std::greater<>> candidates;
-  const auto addNeighbours = [&](int node) {
-    for (const int v : ball.grow(nodes[node].vertex, dSing)) {
-      if (!(ball.distance(v) < dSing)) continue;
+  const auto neighbours = [&](GeodesicBall& from, int node, auto&& add) {
+    for (const int v : from.grow(nodes[node].vertex, dSing)) {
+      if (!(from.distance(v) < dSing)) continue;
       for (const int other : nodesAt[v])
         if (other != node && alive[other])
-          candidates.emplace(ball.distance(v), std::min(node, other), std::max(node, other));
+          add(Candidate{from.distance(v), std::min(node, other), std::max(node, other)});
     }
   };
+  const auto addNeighbours = [&](int node) {
+    neighbours(ball, node, [&](const Candidate& c) { candidates.push(c); });
+  };
+  // The first searches (from every node not settled) are independent: on up to `threads`
+  // threads with a ball each. The queue orders candidates totally, whatever the order of pushes.
+  std::vector<int> sources;
   for (std::size_t i = 0; i < nodes.size(); ++i)
-    if (settled.empty() || !settled[i]) addNeighbours(static_cast<int>(i));
+    if (settled.empty() || !settled[i]) sources.push_back(static_cast<int>(i));
+  const std::size_t workers = std::clamp<std::size_t>(static_cast<std::size_t>(threads), 1,
+                                                      std::max<std::size_t>(1, sources.size()));
+  std::vector<std::vector<Candidate>> found(workers);
+  parallelFor(
+      workers, static_cast<int>(workers),
+      [&](std::size_t w) {
+        GeodesicBall own(graph);
+        for (std::size_t k = sources.size() * w / workers; k < sources.size() * (w + 1) / workers;
+             ++k)
+          neighbours(own, sources[k], [&](const Candidate& c) { found[w].push_back(c); });
+      },
+      1);
+  for (const auto& list : found)
+    for (const Candidate& c : list) candidates.push(c);
 
   ClusteringResult result;
   const auto remove = [&](int node) {

@@ -60,10 +60,12 @@ struct ClusteringResult {
 /// `nodes` must be interior vertices; `gaussDensity` is #V |K|/area or any per-vertex weight.
 /// `settled` (empty or one flag per node): nodes known to have no collapsible partner among the
 /// other settled nodes (they were left apart by an earlier clustering); the search for close
-/// pairs then starts only from the others.
+/// pairs then starts only from the others. `threads`: the first searches for close pairs run on up
+/// to this many threads (the result is the same for any count).
 ClusteringResult clusterSingularities(const TriMesh& mesh, const EdgeGraph& graph,
                                       const std::vector<ClusterNode>& nodes,
                                       const std::vector<double>& gaussDensity, double dSing,
-                                      int maxIndex, const std::vector<bool>& settled = {});
+                                      int maxIndex, const std::vector<bool>& settled = {},
+                                      int threads = 1);
 
 }  // namespace hexcover::field

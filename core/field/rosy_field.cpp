@@ -315,7 +315,7 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
         settled.push_back(!previousIndex.empty() && previousIndex[s.vertex] == s.index);
       }
       return field::clusterSingularities(mesh, *graph, nodes, density, dSing,
-                                         options.maxMergedIndex, settled);
+                                         options.maxMergedIndex, settled, options.threads);
     });
     // Stop when a round does not collapse fewer pairs than the one before: the re-solve is then
     // recreating the pairs it cancels (see the known limitation in rosy_field.h).
