@@ -1,5 +1,5 @@
-// The `hexcover info`, `hexcover convert` and `hexcover param` commands, run as the built binary
-// (HEXCOVER_CLI).
+// The `hexcover info`, `hexcover convert`, `hexcover field` and `hexcover param` commands, run as
+// the built binary (HEXCOVER_CLI).
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -125,6 +125,39 @@ TEST_F(CliTest, ConvertWritesTheFormatOfTheOutputExtension) {
       hexcover("convert '" + obj.string() + "' '" + (dir_ / "x.fbx").string() + "'");
   EXPECT_EQ(bad.status, 1);
   EXPECT_NE(bad.err.find(".fbx"), std::string::npos) << bad.err;
+}
+
+TEST_F(CliTest, FieldPrintsSingularitiesWhoseIndicesSumToTheEulerCharacteristic) {
+  const auto path = dir_ / "sphere.obj", ply = dir_ / "field.ply";
+  const TriMesh sphere = makeIcosphere(3);
+  writeMesh(toPolygonSoup(sphere), path);
+  for (const int rosy : {6, 4}) {
+    const CommandResult run = hexcover("field '" + path.string() + "' --rosy " +
+                                       std::to_string(rosy) + " -o '" + ply.string() + "'");
+    ASSERT_EQ(run.status, 0) << run.err;
+    const nlohmann::json json = nlohmann::json::parse(run.out);
+    EXPECT_EQ(json["euler_characteristic"], 2);
+    EXPECT_EQ(json["max_merged_index"], 0) << "the paper's clustering";
+    EXPECT_GT(json["seconds"].get<double>(), 0.0);
+    EXPECT_GE(json["singularities_initial"].get<int>(), json["singularities_final"].get<int>());
+    ASSERT_EQ(json["singularities"].size(), json["singularities_final"].get<std::size_t>());
+    double sum = 0.0;
+    for (const auto& s : json["singularities"]) {
+      EXPECT_LT(s["vertex"].get<int>(), static_cast<int>(sphere.n_vertices()));
+      ASSERT_EQ(s["position"].size(), 3u);
+      sum += s["index"].get<double>();  // signed fractions such as 0.1667
+    }
+    EXPECT_NEAR(sum, 2.0, 1e-3) << "N = " << rosy;
+    // The viewer file: the mesh plus a thin quad per field direction in every face.
+    const PolygonSoup viewer = readMesh(ply);
+    EXPECT_GE(viewer.faceCount(), sphere.n_faces() * (1 + rosy)) << "N = " << rosy;
+  }
+  const CommandResult limited = hexcover("field '" + path.string() + "' --max-merged-index 1");
+  ASSERT_EQ(limited.status, 0) << limited.err;
+  EXPECT_EQ(nlohmann::json::parse(limited.out)["max_merged_index"], 1);
+  const CommandResult refused = hexcover("field '" + path.string() + "' --max-merged-index -1");
+  EXPECT_EQ(refused.status, 2) << "a usage error";
+  EXPECT_NE(refused.err.find("--max-merged-index"), std::string::npos) << refused.err;
 }
 
 TEST_F(CliTest, ParamClustersSingularitiesAtSixEdgeLengthsUnlessToldOtherwise) {
