@@ -24,23 +24,30 @@ class GeodesicBall {
         distance_(graph.vertices(), std::numeric_limits<double>::infinity()),
         previous_(graph.vertices(), -1) {}
 
-  /// Vertices closer than `radius` to `source`, in the order they were settled.
-  const std::vector<int>& grow(int source, double radius) {
+  /// Vertices closer than `radius` to `source`, in the order they were settled; with `stop` ≥ 0,
+  /// only up to vertex `stop` (whose distance and path are then final).
+  const std::vector<int>& grow(int source, double radius, int stop = -1) {
     for (const int v : touched_) {
       distance_[v] = std::numeric_limits<double>::infinity();
       previous_[v] = -1;
     }
     touched_.clear();
     settled_.clear();
-    MinQueue queue;
+    heap_.clear();  // a binary min-heap (std::greater) that keeps its memory between runs
+    const auto push = [this](double d, int v) {
+      heap_.emplace_back(d, v);
+      std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
+    };
     distance_[source] = 0.0;
     touched_.push_back(source);
-    queue.emplace(0.0, source);
-    while (!queue.empty()) {
-      const auto [d, v] = queue.top();
-      queue.pop();
+    push(0.0, source);
+    while (!heap_.empty()) {
+      std::pop_heap(heap_.begin(), heap_.end(), std::greater<>());
+      const auto [d, v] = heap_.back();
+      heap_.pop_back();
       if (d > distance_[v]) continue;
       settled_.push_back(v);
+      if (v == stop) break;
       for (int k = graph_.offset[v]; k < graph_.offset[v + 1]; ++k) {
         const int w = graph_.target[k];
         const double dw = d + graph_.length[k];
@@ -48,7 +55,7 @@ class GeodesicBall {
           if (distance_[w] == std::numeric_limits<double>::infinity()) touched_.push_back(w);
           distance_[w] = dw;
           previous_[w] = v;
-          queue.emplace(dw, w);
+          push(dw, w);
         }
       }
     }
@@ -70,6 +77,7 @@ class GeodesicBall {
   std::vector<double> distance_;
   std::vector<int> previous_;
   std::vector<int> settled_, touched_;
+  std::vector<QueueEntry> heap_;
 };
 
 }  // namespace
@@ -180,7 +188,7 @@ ClusteringResult clusterSingularities(const TriMesh& mesh, const EdgeGraph& grap
     if (sum == 0) continue;  // cancellation
 
     // The merged node: on the shortest path a → b at fraction |K_b| / (|K_a| + |K_b|).
-    ball.grow(va, dSing);  // reaches vb: the pair is closer than d_sing
+    ball.grow(va, dSing, vb);  // reaches vb: the pair is closer than d_sing
     const std::vector<int> path = ball.pathTo(vb);
     const double ka = std::abs(gaussDensity[va]), kb = std::abs(gaussDensity[vb]);
     const double fraction = ka + kb > 0.0 ? kb / (ka + kb) : 0.5;
