@@ -229,56 +229,66 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
 
   step(0.0);
   const auto start = std::chrono::steady_clock::now();
-  const field::FieldGeometry geometry =
-      timed(timings, "geometry", [&] { return field::FieldGeometry(mesh); });
-
-  // Two independent chains, on two threads when options.threads allows: the constraints (from the
-  // curvature) on one; the connection correction for K̄ and the solve's terms on the other.
-  step(0.05);
+  // Two phases of two independent tasks each, on two threads when options.threads allows (the
+  // second task's timings are appended after the first's).
   Timings sideTimings;
-  field::SmoothSolveInput input;
+  std::optional<field::FieldGeometry> geometryOf;
+  std::vector<int> vertexOrder;
   field::SmoothnessTerms terms;
   std::optional<field::EdgeGraph> graph;
+  // 1. The frames and transport, and the vertex graph's elimination order (one for every
+  //    connection solve of the run); the solve's terms with the face graph's order.
+  runBoth(
+      options.threads,
+      [&] {
+        geometryOf.emplace(timed(timings, "geometry", [&] { return field::FieldGeometry(mesh); }));
+        vertexOrder = timed(timings, "connection", [&] { return field::vertexGraphOrder(mesh); });
+      },
+      [&] {
+        terms = timed(sideTimings, "initial_solve", [&] { return field::smoothnessTerms(mesh); });
+        graph.emplace(mesh);
+      });
+  const field::FieldGeometry& geometry = *geometryOf;
+
+  // 2. The connection corrected for K̄; the curvature and the constraints.
+  step(0.1);
+  field::SmoothSolveInput input;
   std::vector<double> density;
-  std::vector<int> vertexOrder;
   std::vector<double> initialCorrections;
-  const auto curvatureConstraints = [&] {
-    const Curvature curvature =
-        timed(sideTimings, "curvature", [&] { return computeCurvature(mesh, options.curvature); });
-    input = timed(sideTimings, "constraints", [&] {
-      field::SmoothSolveInput in;
-      in.free.assign(nf, true);
-      in.value.assign(nf, Complex(0.0, 0.0));
-      in.softWeight.assign(nf, 0.0);
-      in.softTarget.assign(nf, Complex(0.0, 0.0));
-      if (options.curvatureConstraints)
-        addCurvatureConstraints(mesh, geometry, curvature, options, in);
-      if (options.boundary == BoundaryAlignment::Tangent)
-        fixBoundaryFaces(mesh, geometry, n, options.boundaryTangentReach, in);
-      return in;
-    });
-    // The Gauss curvature density K/A that weighs merged positions (section 3.3).
-    density.assign(mesh.n_vertices(), 0.0);
-    for (std::size_t v = 0; v < density.size(); ++v)
-      density[v] = curvature.area[v] > 0.0 ? curvature.gauss[v] / curvature.area[v] : 0.0;
-    graph.emplace(mesh);
-  };
-  const auto connectionAndTerms = [&] {
-    // One elimination order of the vertex graph for every connection solve of the run.
-    vertexOrder = timed(timings, "connection", [&] { return field::vertexGraphOrder(mesh); });
-    const field::ConnectionCorrector corrector = timed(timings, "connection", [&] {
-      return field::ConnectionCorrector(mesh, geometry, field::interiorVertices(mesh),
-                                        field::interiorEdges(mesh), vertexOrder);
-    });
-    const std::vector<double> filtered = timed(timings, "filter_gauss_curvature", [&] {
-      return field::filterGaussCurvature(
-          mesh, geometry, field::filterSteps(mesh, options.curvatureFilterRadius * diagonal));
-    });
-    initialCorrections =
-        timed(timings, "filter_gauss_curvature", [&] { return corrector.corrections(filtered); });
-    terms = timed(timings, "initial_solve", [&] { return field::smoothnessTerms(mesh); });
-  };
-  runBoth(options.threads, connectionAndTerms, curvatureConstraints);
+  runBoth(
+      options.threads,
+      [&] {
+        const field::ConnectionCorrector corrector = timed(timings, "connection", [&] {
+          return field::ConnectionCorrector(mesh, geometry, field::interiorVertices(mesh),
+                                            field::interiorEdges(mesh), vertexOrder);
+        });
+        const std::vector<double> filtered = timed(timings, "filter_gauss_curvature", [&] {
+          return field::filterGaussCurvature(
+              mesh, geometry, field::filterSteps(mesh, options.curvatureFilterRadius * diagonal));
+        });
+        initialCorrections = timed(timings, "filter_gauss_curvature",
+                                   [&] { return corrector.corrections(filtered); });
+      },
+      [&] {
+        const Curvature curvature = timed(
+            sideTimings, "curvature", [&] { return computeCurvature(mesh, options.curvature); });
+        input = timed(sideTimings, "constraints", [&] {
+          field::SmoothSolveInput in;
+          in.free.assign(nf, true);
+          in.value.assign(nf, Complex(0.0, 0.0));
+          in.softWeight.assign(nf, 0.0);
+          in.softTarget.assign(nf, Complex(0.0, 0.0));
+          if (options.curvatureConstraints)
+            addCurvatureConstraints(mesh, geometry, curvature, options, in);
+          if (options.boundary == BoundaryAlignment::Tangent)
+            fixBoundaryFaces(mesh, geometry, n, options.boundaryTangentReach, in);
+          return in;
+        });
+        // The Gauss curvature density K/A that weighs merged positions (section 3.3).
+        density.assign(mesh.n_vertices(), 0.0);
+        for (std::size_t v = 0; v < density.size(); ++v)
+          density[v] = curvature.area[v] > 0.0 ? curvature.gauss[v] / curvature.area[v] : 0.0;
+      });
   timings.insert(timings.end(), sideTimings.begin(), sideTimings.end());
 
   step(0.3);

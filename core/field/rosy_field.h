@@ -102,8 +102,9 @@ struct FieldOptions {
   /// before it to the one `reach` steps after it (0: the edge itself). Smooths the zigzags of
   /// scanned boundaries, each of which would otherwise be a boundary singularity.
   int boundaryTangentReach = 1;
-  /// Threads: with 2 or more, the curvature and the constraints are computed while the
-  /// connection is corrected for K̄. The result is the same for any count.
+  /// Threads: with 2 or more, the solve's terms are built while the frames are computed, the
+  /// curvature and the constraints while the connection is corrected for K̄, and clustering
+  /// searches for close pairs on both. The result is the same for any count.
   int threads = 2;
 
   /// Empty when valid; otherwise names the bad option and its valid range.
@@ -127,11 +128,11 @@ struct FieldOptions {
 /// own constraints, or its smoothest field when it has none). Deterministic: the same mesh and
 /// options give the same bytes, whatever options.threads. Poincaré–Hopf is checked per component
 /// after every solve (std::logic_error on failure: a bug). Timings: geometry, connection,
-/// filter_gauss_curvature, curvature, constraints (the last two concurrently with the connection
-/// and the filter), initial_solve, initial_singularities, then per clustering round clustering,
-/// cluster_solve, cluster_singularities. Throws Error(InvalidOption) for invalid options,
-/// Error(InvalidMesh) for a mesh without faces, Error(NumericalFailure) if a factorization fails,
-/// Error(Canceled) when `context` asks.
+/// filter_gauss_curvature, initial_solve (its terms), curvature, constraints (see
+/// FieldOptions::threads for what runs concurrently), initial_solve, initial_singularities, then
+/// per clustering round clustering, cluster_solve, cluster_singularities. Throws
+/// Error(InvalidOption) for invalid options, Error(InvalidMesh) for a mesh without faces,
+/// Error(NumericalFailure) if a factorization fails, Error(Canceled) when `context` asks.
 RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options = {},
                            const RunContext& context = {});
 
