@@ -458,4 +458,38 @@ int slideBoundarySamples(const BoundaryIndex& index, std::vector<LoopSamples>& s
   return moves;
 }
 
+long long flipBoundarySlivers(TriMesh& mesh, double belowDegrees) {
+  constexpr int kPasses = 3;
+  const auto point = [&](OpenMesh::VertexHandle v) { return toEigen(mesh.point(v)); };
+  long long flips = 0;
+  for (int pass = 0; pass < kPasses; ++pass) {
+    long long passFlips = 0;
+    for (const auto e : mesh.edges()) {
+      if (e.is_boundary()) continue;
+      // Faces (a, b, c) and (b, a, d); after the flip (c, a, d) and (c, d, b).
+      const auto h = e.h0();
+      const auto a = h.from(), b = h.to(), c = h.next().to(), d = e.h1().next().to();
+      if (!(a.is_boundary() || b.is_boundary() || c.is_boundary() || d.is_boundary())) continue;
+      const std::array<Eigen::Vector3d, 3> first{point(a), point(b), point(c)},
+          second{point(b), point(a), point(d)}, flippedFirst{point(c), point(a), point(d)},
+          flippedSecond{point(c), point(d), point(b)};
+      const double before = std::min(angleRange(first)[0], angleRange(second)[0]);
+      if (!(before < belowDegrees) || !mesh.is_flip_ok(e)) continue;
+      const double after = std::min(angleRange(flippedFirst)[0], angleRange(flippedSecond)[0]);
+      if (!(after > before)) continue;
+      const Eigen::Vector3d mean = ((first[1] - first[0]).cross(first[2] - first[0]) +
+                                    (second[1] - second[0]).cross(second[2] - second[0]))
+                                       .normalized();
+      if (!(mean.dot(triangleNormal(flippedFirst)) > kMinNormalCosine &&
+            mean.dot(triangleNormal(flippedSecond)) > kMinNormalCosine))
+        continue;
+      mesh.flip(e);
+      ++passFlips;
+    }
+    flips += passFlips;
+    if (passFlips == 0) break;
+  }
+  return flips;
+}
+
 }  // namespace hexcover::extract_detail

@@ -11,6 +11,8 @@
 #include <unordered_map>
 #include <vector>
 
+#include "core/mesh/mesh.h"
+
 namespace hexcover::extract_detail {
 
 using Triangle = std::array<int, 3>;
@@ -108,6 +110,12 @@ void stitchStrip(const std::vector<Eigen::Vector3d>& positions,
 /// near outerArc[0], for stitchStrip.
 void alignFrontToLoop(const std::vector<double>& outerArc, std::vector<int>& front,
                       std::vector<double>& frontArc, double loopLength);
+
+/// Step 8 of extraction: flips the interior edges of triangles at the boundary of `mesh` whose
+/// smallest angle is below `belowDegrees`, when the flip raises the pair's smallest angle and
+/// both new triangles face within 60° of the pair's area-weighted normal (up to 3 passes).
+/// Returns the number of flips.
+long long flipBoundarySlivers(TriMesh& mesh, double belowDegrees);
 
 /// Closes a hole bounded by `loop` (a boundary loop of the triangles, triangles on its left):
 /// one triangle for 3 vertices, the shorter diagonal for 4, else a fan around a new vertex at the

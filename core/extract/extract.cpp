@@ -29,6 +29,9 @@ void ExtractOptions::validate() const {
   if (!(featureSnapDistance >= 0.0 && featureSnapDistance < 1.0))
     throw Error(ErrorCode::InvalidOption, "featureSnapDistance must be in [0, 1), got " +
                                               std::to_string(featureSnapDistance));
+  if (!(sliverAngle >= 0.0 && sliverAngle < 60.0))
+    throw Error(ErrorCode::InvalidOption,
+                "sliverAngle must be in [0, 60) degrees, got " + std::to_string(sliverAngle));
 }
 
 namespace {
@@ -1128,6 +1131,8 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
       report.smoothedVertices = counts.smoothed;
       report.relaxedVertices = counts.relaxed;
     }
+    if (options.sliverAngle > 0.0)
+      report.boundarySliverFlips = flipBoundarySlivers(result.triangles, options.sliverAngle);
   }
   {
     ScopedTimer timer(report.timings, "hexagonal dual");

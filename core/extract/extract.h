@@ -36,6 +36,9 @@
 //    sharp crease or tip (feature snapping), next to poor triangles (smoothing) and where the
 //    angles stray from 60° (relaxation), when that does not raise the local deviation from the
 //    input; the connectivity stays.
+// 8. Boundary slivers: a triangle at the output boundary that still has an angle below
+//    `sliverAngle` (next to a sharp corner of the boundary) gets the edge flip that raises its
+//    pair's smallest angle, although that moves two valences away from 6.
 
 #include <vector>
 
@@ -65,6 +68,10 @@ struct ExtractOptions {
   /// Input vertices farther than this many local edge lengths from the remesh pull a remesh
   /// vertex onto themselves (step 7). In [0, 1); 0 disables snapping.
   double featureSnapDistance = 0.35;
+  /// Step 8: triangles at the output boundary with an angle below this many degrees (issue 5's
+  /// floor) get the edge flip that raises it, at the cost of two valences. In [0, 60); 0
+  /// disables the step.
+  double sliverAngle = 20.0;
 
   /// Throws Error(InvalidOption) naming the first bad option.
   void validate() const;
@@ -94,6 +101,7 @@ struct ExtractionReport {
   long long featureSnaps = 0;          ///< vertices moved onto a sharp feature of the input
   long long smoothedVertices = 0;      ///< vertex moves that opened up poor triangles
   long long relaxedVertices = 0;       ///< relaxation moves (angles nearer 60°)
+  long long boundarySliverFlips = 0;   ///< step 8: flips of slivers at the output boundary
   long long nonManifoldVertices = 0;   ///< vertices with several fans, re-triangulated locally
   long long nonManifoldFacesDropped = 0;  ///< faces OpenMesh still refused (would be non-manifold)
   Timings timings;

@@ -41,6 +41,39 @@ TEST(BoundaryFlips, FlipsTheLongDiagonalOfAThinRhombus) {
   EXPECT_EQ(improveByFlips(kRhombus, {}, region), 0) << "a second call finds nothing to improve";
 }
 
+// Step 8 on a mesh: the rhombus's 15° slivers touch its boundary and are flipped below 20°; a
+// rhombus with 25° angles is not.
+TEST(BoundaryFlips, FlipBoundarySliversBelowTheFloorOnly) {
+  const auto rhombusMesh = [](double halfWidth) {
+    TriMesh mesh;
+    std::vector<TriMesh::VertexHandle> v;
+    for (const Eigen::Vector3d p : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, -halfWidth, 0),
+                                    Eigen::Vector3d(2, 0, 0), Eigen::Vector3d(1, halfWidth, 0)})
+      v.push_back(mesh.add_vertex(toOpenMesh(p)));
+    mesh.add_face(v[0], v[1], v[2]);
+    mesh.add_face(v[0], v[2], v[3]);
+    return mesh;
+  };
+  const auto smallest = [](const TriMesh& mesh) {
+    double angle = 180.0;
+    for (const auto f : mesh.faces()) {
+      std::array<Eigen::Vector3d, 3> p;
+      int k = 0;
+      for (const auto v : f.vertices()) p[k++] = toEigen(mesh.point(v));
+      angle = std::min(angle, angleRange(p)[0]);
+    }
+    return angle;
+  };
+  TriMesh thin = rhombusMesh(0.2679);  // tan 15°
+  ASSERT_NEAR(smallest(thin), 15.0, 0.01);
+  EXPECT_EQ(flipBoundarySlivers(thin, 20.0), 1);
+  EXPECT_GT(smallest(thin), 29.9);
+  EXPECT_EQ(thin.n_faces(), 2u);
+  TriMesh wide = rhombusMesh(0.4663);  // tan 25°
+  EXPECT_EQ(flipBoundarySlivers(wide, 20.0), 0);
+  EXPECT_NEAR(smallest(wide), 25.0, 0.01);
+}
+
 TEST(BoundaryFlips, NeverCreatesAnEdgeThatExistsElsewhereOrTouchesOtherTriangles) {
   std::vector<Triangle> region = {{0, 1, 2}, {0, 2, 3}};
   // Another triangle already uses the edge 1-3 (a lattice triangle elsewhere): no flip.
