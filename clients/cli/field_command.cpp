@@ -1,9 +1,10 @@
 // `hexcover field MESH [--rosy 6|4] [--d-sing X] [--max-merged-index K] [--no-clustering]
 // [--free-boundary] [-o FIELD.ply]`: the geometry-aware N-RoSy field of a mesh (paper section 3)
 // as one JSON object on stdout (clustered as in the paper unless --max-merged-index K limits merged
-// singularities to |I| ≤ K, as the remesh pipeline does with K = 1); -o writes a PLY that any mesh viewer shows: the mesh with its singular vertices coloured
-// by index (red positive, blue negative, darker for |I| > 1) and, in every face, short segments
-// along the N field directions (thin quads; the representative direction in orange).
+// singularities to |I| ≤ K, as the remesh pipeline does with K = 1); -o writes a PLY that any
+// mesh viewer shows: the mesh with its singular vertices coloured by index (red positive, blue
+// negative, darker for |I| > 1) and, in every face, short segments along the N field directions
+// (thin quads; the representative direction in orange).
 
 #include <array>
 #include <chrono>

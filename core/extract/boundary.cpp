@@ -304,30 +304,9 @@ std::uint64_t undirectedKey(int a, int b) {
   return (static_cast<std::uint64_t>(lo) << 32) | static_cast<std::uint32_t>(hi);
 }
 
-/// Smallest corner angle of triangle t (radians), 0 when degenerate.
-double minimumAngle(const std::vector<Eigen::Vector3d>& p, const Triangle& t) {
-  double smallest = M_PI;
-  for (int k = 0; k < 3; ++k) {
-    const Eigen::Vector3d u = p[t[(k + 1) % 3]] - p[t[k]], v = p[t[(k + 2) % 3]] - p[t[k]];
-    smallest = std::min(smallest, std::atan2(u.cross(v).norm(), u.dot(v)));
-  }
-  return smallest;
-}
-
-/// angleBadness of triangle t (fan_geometry.h): its angles' distance from 60° relative to the
-/// floors.
-double triangleBadness(const std::vector<Eigen::Vector3d>& p, const Triangle& t) {
-  return angleBadness(angleRange({p[t[0]], p[t[1]], p[t[2]]}));
-}
-
-/// Σ (α − 60°)² over the angles α of triangle t (degrees²).
-double squaredAngleDeviation(const std::vector<Eigen::Vector3d>& p, const Triangle& t) {
-  double sum = 0.0;
-  for (int k = 0; k < 3; ++k) {
-    const double a = angleAt(p[t[k]], p[t[(k + 1) % 3]], p[t[(k + 2) % 3]]) - 60.0;
-    sum += a * a;
-  }
-  return sum;
+/// The corners of triangle t.
+std::array<Eigen::Vector3d, 3> cornersOf(const std::vector<Eigen::Vector3d>& p, const Triangle& t) {
+  return {p[t[0]], p[t[1]], p[t[2]]};
 }
 
 Eigen::Vector3d areaNormal(const std::vector<Eigen::Vector3d>& p, const Triangle& t) {
@@ -342,7 +321,6 @@ int improveByFlips(const std::vector<Eigen::Vector3d>& positions,
   for (const std::vector<Triangle>* set : {&others, static_cast<const std::vector<Triangle>*>(&region)})
     for (const auto& t : *set)
       for (int k = 0; k < 3; ++k) edges.insert(undirectedKey(t[k], t[(k + 1) % 3]));
-  const double minimumCosine = 0.5;  // cos 60°
   int flips = 0;
   constexpr int kMaxPasses = 20;
   for (int pass = 0; pass < kMaxPasses; ++pass) {
@@ -362,22 +340,12 @@ int improveByFlips(const std::vector<Eigen::Vector3d>& positions,
         const int j = it->second.first;
         const int d = region[j][(it->second.second + 2) % 3];  // region[j] = (b, a, d)
         if (c == d || edges.count(undirectedKey(c, d))) continue;
-        const Triangle first{a, d, c}, second{d, b, c};
-        const double before = std::min(minimumAngle(positions, region[i]), minimumAngle(positions, region[j]));
-        const double after = std::min(minimumAngle(positions, first), minimumAngle(positions, second));
-        if (!(after > before + 1e-9)) continue;
-        // The new triangles must face the way the pair does (the pair's area-weighted normal:
-        // a sliver's own normal is noise).
-        const Eigen::Vector3d mean =
-            (areaNormal(positions, region[i]) + areaNormal(positions, region[j])).normalized();
-        const Eigen::Vector3d n1 = areaNormal(positions, first), n2 = areaNormal(positions, second);
-        if (!(n1.norm() > 0.0 && n2.norm() > 0.0 && mean.dot(n1.normalized()) > minimumCosine &&
-              mean.dot(n2.normalized()) > minimumCosine))
+        if (!flipRaisesSmallestAngle(positions[a], positions[b], positions[c], positions[d]))
           continue;
         edges.erase(undirectedKey(a, b));
         edges.insert(undirectedKey(c, d));
-        region[i] = first;
-        region[j] = second;
+        region[i] = {a, d, c};
+        region[j] = {d, b, c};
         touched[i] = touched[j] = true;
         ++passFlips;
       }
@@ -417,8 +385,9 @@ int slideBoundarySamples(const BoundaryIndex& index, std::vector<LoopSamples>& s
     Badness b;
     for (const int i : triangles.at(v)) {
       if (!(areaNormal(positions, region[i]).dot(normal[i]) > 0.0)) return std::nullopt;
-      b.worst = std::max(b.worst, triangleBadness(positions, region[i]));
-      b.sumOfSquares += squaredAngleDeviation(positions, region[i]);
+      const auto corners = cornersOf(positions, region[i]);
+      b.worst = std::max(b.worst, angleBadness(angleRange(corners)));
+      b.sumOfSquares += squaredAngleDeviation(corners);
     }
     return b;
   };
@@ -466,22 +435,12 @@ long long flipBoundarySlivers(TriMesh& mesh, double belowDegrees) {
     long long passFlips = 0;
     for (const auto e : mesh.edges()) {
       if (e.is_boundary()) continue;
-      // Faces (a, b, c) and (b, a, d); after the flip (c, a, d) and (c, d, b).
+      // Faces (a, b, c) and (b, a, d).
       const auto h = e.h0();
       const auto a = h.from(), b = h.to(), c = h.next().to(), d = e.h1().next().to();
       if (!(a.is_boundary() || b.is_boundary() || c.is_boundary() || d.is_boundary())) continue;
-      const std::array<Eigen::Vector3d, 3> first{point(a), point(b), point(c)},
-          second{point(b), point(a), point(d)}, flippedFirst{point(c), point(a), point(d)},
-          flippedSecond{point(c), point(d), point(b)};
-      const double before = std::min(angleRange(first)[0], angleRange(second)[0]);
-      if (!(before < belowDegrees) || !mesh.is_flip_ok(e)) continue;
-      const double after = std::min(angleRange(flippedFirst)[0], angleRange(flippedSecond)[0]);
-      if (!(after > before)) continue;
-      const Eigen::Vector3d mean = ((first[1] - first[0]).cross(first[2] - first[0]) +
-                                    (second[1] - second[0]).cross(second[2] - second[0]))
-                                       .normalized();
-      if (!(mean.dot(triangleNormal(flippedFirst)) > kMinNormalCosine &&
-            mean.dot(triangleNormal(flippedSecond)) > kMinNormalCosine))
+      if (!flipRaisesSmallestAngle(point(a), point(b), point(c), point(d), belowDegrees) ||
+          !mesh.is_flip_ok(e))
         continue;
       mesh.flip(e);
       ++passFlips;

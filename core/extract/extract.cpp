@@ -969,7 +969,9 @@ SoupTopology soupTopology(const std::vector<Triangle>& triangles, std::size_t ve
 void keepComponentsTooSmallForTheLattice(const TriMesh& mesh, const std::vector<int>& faceComponent,
                                          int componentCount, const ExtractOptions& options,
                                          Assembly& out, ExtractionReport& report) {
-  // The input components' topology, from the mesh's connectivity (each is one piece).
+  // The input components' topology, from the mesh's connectivity (each is one piece). Not
+  // computeTopology (core/mesh/topology.h): its components join faces through shared vertices,
+  // these through shared edges.
   std::vector<SoupTopology> inputTopology(componentCount);
   for (auto& t : inputTopology) t.pieces = 1;
   std::vector<int> vertexComponent(mesh.n_vertices(), -1);

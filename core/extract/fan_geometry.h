@@ -31,9 +31,36 @@ inline std::array<double, 2> angleRange(const std::array<Eigen::Vector3d, 3>& p)
   return range;
 }
 
+/// Σ (α − 60°)² over the angles α of triangle (p0, p1, p2), in degrees².
+inline double squaredAngleDeviation(const std::array<Eigen::Vector3d, 3>& p) {
+  double sum = 0.0;
+  for (int j = 0; j < 3; ++j) {
+    const double a = angleAt(p[j], p[(j + 1) % 3], p[(j + 2) % 3]) - 60.0;
+    sum += a * a;
+  }
+  return sum;
+}
+
 /// Unit normal of triangle (p0, p1, p2) (zero for a degenerate one).
 inline Eigen::Vector3d triangleNormal(const std::array<Eigen::Vector3d, 3>& p) {
   return (p[1] - p[0]).cross(p[2] - p[0]).normalized();
+}
+
+/// Whether flipping the edge a–b of triangles (a, b, c) and (b, a, d) to c–d raises the pair's
+/// smallest angle, when that is below `belowDegrees`, and leaves both new triangles, (a, d, c)
+/// and (d, b, c), within 60° of the pair's area-weighted normal (a sliver's own normal is noise).
+inline bool flipRaisesSmallestAngle(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                    const Eigen::Vector3d& c, const Eigen::Vector3d& d,
+                                    double belowDegrees = 180.0) {
+  const std::array<Eigen::Vector3d, 3> first{a, b, c}, second{b, a, d}, flippedFirst{a, d, c},
+      flippedSecond{d, b, c};
+  const double before = std::min(angleRange(first)[0], angleRange(second)[0]);
+  if (!(before < belowDegrees)) return false;
+  const double after = std::min(angleRange(flippedFirst)[0], angleRange(flippedSecond)[0]);
+  if (!(after > before + 1e-9)) return false;
+  const Eigen::Vector3d mean = ((b - a).cross(c - a) + (a - b).cross(d - b)).normalized();
+  return mean.dot(triangleNormal(flippedFirst)) > kMinNormalCosine &&
+         mean.dot(triangleNormal(flippedSecond)) > kMinNormalCosine;
 }
 
 /// The corners of face f, with vertex `moved` (if valid) at `movedTo`.

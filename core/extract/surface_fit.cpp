@@ -177,13 +177,7 @@ class SurfaceFit {
   /// Sum over v's triangles of the squared deviations of their angles from 60° with v at p.
   double fanAngleVariance(SVH v, const Vec3& p) const {
     double sum = 0.0;
-    for (const auto f : v.faces()) {
-      const auto t = facePositions(remesh_, f, v, p);
-      for (int j = 0; j < 3; ++j) {
-        const double a = angleAt(t[j], t[(j + 1) % 3], t[(j + 2) % 3]) - 60.0;
-        sum += a * a;
-      }
-    }
+    for (const auto f : v.faces()) sum += squaredAngleDeviation(facePositions(remesh_, f, v, p));
     return sum;
   }
 

@@ -56,12 +56,10 @@ TEST(BoundaryFlips, FlipBoundarySliversBelowTheFloorOnly) {
   };
   const auto smallest = [](const TriMesh& mesh) {
     double angle = 180.0;
-    for (const auto f : mesh.faces()) {
-      std::array<Eigen::Vector3d, 3> p;
-      int k = 0;
-      for (const auto v : f.vertices()) p[k++] = toEigen(mesh.point(v));
-      angle = std::min(angle, angleRange(p)[0]);
-    }
+    for (const auto f : mesh.faces())
+      angle = std::min(
+          angle,
+          angleRange(facePositions(mesh, f, OpenMesh::VertexHandle(), Eigen::Vector3d::Zero()))[0]);
     return angle;
   };
   TriMesh thin = rhombusMesh(0.2679);  // tan 15°

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/extract/boundary.h"
+#include "core/extract/fan_geometry.h"
 
 namespace hexcover::extract_detail {
 namespace {
@@ -50,12 +51,7 @@ TEST(BoundaryStitch, FrontSteppingTowardsTheLoopGivesNoFan) {
     const Eigen::Vector3d n =
         (positions[t[1]] - positions[t[0]]).cross(positions[t[2]] - positions[t[0]]);
     EXPECT_GT(n.z(), 0.0) << "triangle " << t[0] << " " << t[1] << " " << t[2] << " faces down";
-    double smallest = 180.0;
-    for (int k = 0; k < 3; ++k) {
-      const Eigen::Vector3d u = positions[t[(k + 1) % 3]] - positions[t[k]];
-      const Eigen::Vector3d w = positions[t[(k + 2) % 3]] - positions[t[k]];
-      smallest = std::min(smallest, std::atan2(u.cross(w).norm(), u.dot(w)) * 180.0 / M_PI);
-    }
+    const double smallest = angleRange({positions[t[0]], positions[t[1]], positions[t[2]]})[0];
     EXPECT_GT(smallest, 20.0) << "sliver " << t[0] << " " << t[1] << " " << t[2];
     for (const int v : t) ++triangles[v];
   }

@@ -61,15 +61,9 @@ std::vector<std::array<int, 3>> faceCorners(const TriMesh& mesh) {
 
 double smallestAngleDegrees(const TriMesh& mesh) {
   double smallest = 180.0;
-  for (const auto f : mesh.faces()) {
-    std::array<Vec3, 3> p;
-    int k = 0;
-    for (const auto v : f.vertices()) p[k++] = toEigen(mesh.point(v));
-    for (int j = 0; j < 3; ++j) {
-      const Vec3 u = p[(j + 1) % 3] - p[j], w = p[(j + 2) % 3] - p[j];
-      smallest = std::min(smallest, std::atan2(u.cross(w).norm(), u.dot(w)) * 180.0 / M_PI);
-    }
-  }
+  for (const auto f : mesh.faces())
+    smallest = std::min(
+        smallest, angleRange(facePositions(mesh, f, OpenMesh::VertexHandle(), Vec3::Zero()))[0]);
   return smallest;
 }
 
