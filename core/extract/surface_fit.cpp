@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "core/extract/fan_geometry.h"
@@ -20,6 +21,8 @@ constexpr double kSnapReach = 0.7;
 /// Angles that a snapped corner's triangles must keep (degrees).
 constexpr double kSnapMinAngle = 25.0;
 constexpr double kSnapMaxAngle = 115.0;
+/// Fractions of the way to the feature point that a snap tries, in order.
+constexpr std::array<double, 3> kSnapFractions{1.0, 0.7, 0.45};
 /// A triangle with an angle outside [kPoorMinAngle, kPoorMaxAngle] is poor: its corners are
 /// smoothed.
 constexpr double kPoorMinAngle = 25.0;
@@ -46,6 +49,10 @@ class SurfaceFit {
       locked_[v.idx()] = remesh_.is_boundary(v) || remesh_.is_isolated(v);
     for (const auto v : input.vertices())
       if (!input.is_isolated(v)) inputPoints_.push_back(toEigen(input.point(v)));
+    double lengthSum = 0.0;
+    for (const auto e : remesh_.edges()) lengthSum += remesh_.calc_edge_length(e);
+    meanEdgeLength_ =
+        remesh_.n_edges() > 0 ? lengthSum / static_cast<double>(remesh_.n_edges()) : 0.0;
   }
 
   /// Assigns the input points to their closest remesh triangles, then one round of feature
@@ -59,7 +66,8 @@ class SurfaceFit {
     };
     std::vector<Candidate> candidates;
     for (std::size_t i = 0; i < inputPoints_.size(); ++i)
-      if (nearest_[i].distance > snapDistance * faceEdgeLength(nearest_[i].face))
+      if (nearest_[i].distance >
+          snapDistance * std::min(faceEdgeLength(nearest_[i].face), meanEdgeLength_))
         candidates.push_back({nearest_[i].distance, static_cast<int>(i)});
     std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
       return a.distance > b.distance || (a.distance == b.distance && a.point < b.point);
@@ -84,12 +92,27 @@ class SurfaceFit {
       const double reach = kSnapReach * faceEdgeLength(face.idx());
       for (const auto& [distance, v] : corners) {
         if (locked_[v.idx()] || distance > reach) continue;
-        const auto range = fanAngleRange(remesh_, v, target);
-        if (!(range[0] >= kSnapMinAngle && range[1] <= kSnapMaxAngle)) continue;
-        if (!(fanDeviation(v, target) < fanDeviation(v, position(v)))) continue;
-        remesh_.set_point(v, toOpenMesh(target));
+        // Onto the point, or failing that part of the way (projected onto the input) while the
+        // fan keeps its angles.
+        const auto acceptable = [&](const Vec3& p) {
+          const auto range = fanAngleRange(remesh_, v, p);
+          return range[0] >= kSnapMinAngle && range[1] <= kSnapMaxAngle &&
+                 fanDeviation(v, p) < fanDeviation(v, position(v));
+        };
+        std::optional<Vec3> moveTo;
+        for (const double fraction : kSnapFractions) {
+          const Vec3 p = fraction == 1.0
+                             ? target
+                             : inputQuery_.closest(position(v) + fraction * (target - position(v))).point;
+          if (acceptable(p)) {
+            moveTo = p;
+            break;
+          }
+        }
+        if (!moveTo) continue;
+        remesh_.set_point(v, toOpenMesh(*moveTo));
         moved_[v.idx()] = 1;
-        locked_[v.idx()] = 1;
+        locked_[v.idx()] = *moveTo == target;  // a part-way move may go on in the next round
         touched[v.idx()] = 1;
         for (const auto w : v.vertices()) touched[w.idx()] = 1;
         ++moves;
@@ -167,6 +190,7 @@ class SurfaceFit {
   std::vector<char> locked_;  ///< per remesh vertex: boundary, isolated or snapped
   std::vector<char> moved_;   ///< per remesh vertex: moved since the last assignInputPoints
   std::vector<Vec3> inputPoints_;
+  double meanEdgeLength_ = 0.0;  ///< of the remesh as extracted
   /// Per input point: its closest remesh triangle (refreshed by assignInputPoints).
   std::vector<ClosestPointQuery::Result> nearest_;
   /// Per remesh face: the input points whose closest remesh triangle it is.

@@ -4,10 +4,13 @@
 // raise the local deviation between the remesh and the input (beyond 0.1 local edge lengths for
 // the last two):
 //
-// - Feature snapping: an input vertex farther than `featureSnapDistance` local edge lengths from
-//   the remesh (a sharp crease or a thin tip that the lattice cuts off) pulls the nearest corner of
-//   its closest remesh triangle onto itself, when that corner is within `kSnapReach` edge lengths
-//   and its triangles keep their angles in [kSnapMinAngle, kSnapMaxAngle].
+// - Feature snapping: an input vertex farther than `featureSnapDistance` edge lengths from the
+//   remesh (the smaller of the local and the mean edge length: where the conformal scale makes
+//   triangles large, as on the rocker arm's creases, the mean bounds the distance) pulls the
+//   nearest corner of its closest remesh triangle onto itself, when that corner is within
+//   `kSnapReach` edge lengths and its triangles keep their angles in [kSnapMinAngle,
+//   kSnapMaxAngle]; failing that, 0.7 or 0.45 of the way (projected onto the input), and such a
+//   part-way move may go on in a later round.
 // - Smoothing of poor triangles: a corner of a triangle with an angle below kPoorMinAngle or above
 //   kPoorMaxAngle (next to hole fills, folds and strips) moves to the best of a few trial
 //   positions (towards the centroid of its neighbours, and 8 directions in its tangent plane),

@@ -103,6 +103,49 @@ TEST(SurfaceFit, SnapsVerticesOntoASharpRidgeThatTheCoarseMeshCutsOff) {
   EXPECT_GE(smallestAngleDegrees(remesh), 20.0);
 }
 
+TEST(SurfaceFit, MovesPartWayToARidgeWhenAFullSnapWouldOpenAnAngleTooFar) {
+  // A roof with slopes ±0.5 and its ridge along y = 0.6, and a unit hexagon fan on it centred at
+  // the origin: the ring is the remesh's boundary (fixed), the centre may move. All the way onto
+  // the ridge its fan would have a 118.5° angle (the snap allows 115°); 0.7 of the way, 96°.
+  constexpr double kRidge = 0.6;
+  const auto height = [](double y) { return -0.5 * std::abs(y - kRidge); };
+  // The input: a fine grid over [−0.4, 0.4] × [−0.6, 0.8] (inside the fan, so that every input
+  // point is near it), with a row of vertices on the ridge.
+  TriMesh input;
+  constexpr int nx = 16, ny = 28;
+  std::vector<TriMesh::VertexHandle> grid;
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) {
+      const double x = -0.4 + 0.05 * i, y = -0.6 + 0.05 * j;
+      grid.push_back(input.add_vertex({x, y, height(y)}));
+    }
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const auto at = [&](int a, int b) { return grid[b * (nx + 1) + a]; };
+      input.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+      input.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+    }
+  TriMesh fan;
+  const auto centre = fan.add_vertex({0.0, 0.0, height(0.0)});
+  std::vector<TriMesh::VertexHandle> ring;
+  for (int k = 0; k < 6; ++k) {
+    const double x = std::cos(k * M_PI / 3.0), y = std::sin(k * M_PI / 3.0);
+    ring.push_back(fan.add_vertex({x, y, height(y)}));
+  }
+  for (int k = 0; k < 6; ++k) fan.add_face(centre, ring[k], ring[(k + 1) % 6]);
+  const std::vector<Vec3> ridgePoint{Vec3(0.0, kRidge, 0.0)};
+  const double before = largestDistance(ridgePoint, fan);
+
+  const SurfaceFitCounts counts = fitRemeshToSurface(input, ClosestPointQuery(input), fan, 0.1);
+  EXPECT_GE(counts.snapped, 1);  // part-way moves may go on in later rounds
+  const auto moved = fan.point(centre);
+  EXPECT_GT(moved[1], 0.3);
+  EXPECT_LT(moved[1], kRidge - 0.05) << "the centre should stop short of the ridge";
+  EXPECT_NEAR(moved[2], height(moved[1]), 1e-12);
+  EXPECT_LT(largestDistance(ridgePoint, fan), 0.6 * before);
+  EXPECT_GE(smallestAngleDegrees(fan), 25.0);
+}
+
 TEST(SurfaceFit, SmoothsAPoorTriangleAndKeepsTheVertexOnTheSurface) {
   const TriMesh input = makeIcosphere(5);
   TriMesh remesh = makeIcosphere(2);
