@@ -101,9 +101,8 @@ class SurfaceFit {
         };
         std::optional<Vec3> moveTo;
         for (const double fraction : kSnapFractions) {
-          const Vec3 p = fraction == 1.0
-                             ? target
-                             : inputQuery_.closest(position(v) + fraction * (target - position(v))).point;
+          const Vec3 partWay = position(v) + fraction * (target - position(v));
+          const Vec3 p = fraction == 1.0 ? target : inputQuery_.closest(partWay).point;
           if (acceptable(p)) {
             moveTo = p;
             break;
