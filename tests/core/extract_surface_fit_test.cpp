@@ -1,5 +1,6 @@
 // Fitting the remesh to the input surface (core/extract/surface_fit.h): feature snapping onto a
-// sharp ridge and smoothing of a poor triangle on a sphere, on meshes generated here.
+// sharp ridge (its threshold, part-way moves) and smoothing of a poor triangle on a sphere, on
+// meshes generated here.
 
 #include <gtest/gtest.h>
 
@@ -101,6 +102,52 @@ TEST(SurfaceFit, SnapsVerticesOntoASharpRidgeThatTheCoarseMeshCutsOff) {
     }
   }
   EXPECT_GE(smallestAngleDegrees(remesh), 20.0);
+}
+
+/// The coarse grid of the ridge test (edge 1) lifted onto the roof, and optionally a second
+/// component far away: a fine grid (edge 0.1) that pulls the remesh's mean edge length down.
+TriMesh liftedGridOnTheRoof(bool withFineComponent) {
+  TriMesh remesh = makeEquilateralGrid(6, 7);
+  for (const auto v : remesh.vertices()) {
+    auto p = remesh.point(v);
+    p[2] = roof(p[0]);
+    remesh.set_point(v, p);
+  }
+  if (!withFineComponent) return remesh;
+  const TriMesh fine = makeEquilateralGrid(30, 30, 0.1);
+  std::vector<TriMesh::VertexHandle> copy;
+  for (const auto v : fine.vertices()) {
+    const auto p = fine.point(v);
+    copy.push_back(remesh.add_vertex({p[0] + 100.0, p[1], p[2]}));
+  }
+  for (const auto f : fine.faces()) {
+    std::vector<TriMesh::VertexHandle> corners;
+    for (const auto v : f.vertices()) corners.push_back(copy[v.idx()]);
+    remesh.add_face(corners);
+  }
+  return remesh;
+}
+
+TEST(SurfaceFit, MeasuresTheSnapThresholdAgainstTheMeanEdgeLengthWhereTrianglesAreLarger) {
+  // The ridge is at most 0.4 edge lengths from the coarse grid: under a snap threshold of 0.45
+  // when the grid is the whole remesh. With a fine component elsewhere the mean edge length is
+  // far smaller, and the threshold, 0.45 × the smaller of the two, lets the ridge pull vertices.
+  const TriMesh input = makeRoof();
+  std::vector<Vec3> ridge;
+  for (const auto v : input.vertices()) {
+    const Vec3 p = toEigen(input.point(v));
+    if (std::abs(p.x() - kRidgeX) < 1e-9 && p.y() > 1.0 && p.y() < 4.2) ridge.push_back(p);
+  }
+  TriMesh alone = liftedGridOnTheRoof(false);
+  const double cutOff = largestDistance(ridge, alone);
+  ASSERT_LT(cutOff, 0.45) << "the ridge should be within the threshold of the coarse grid alone";
+  EXPECT_EQ(fitRemeshToSurface(input, ClosestPointQuery(input), alone, 0.45).snapped, 0);
+
+  TriMesh withFine = liftedGridOnTheRoof(true);
+  const SurfaceFitCounts counts =
+      fitRemeshToSurface(input, ClosestPointQuery(input), withFine, 0.45);
+  EXPECT_GT(counts.snapped, 0);
+  EXPECT_LT(largestDistance(ridge, withFine), 0.5 * cutOff);
 }
 
 TEST(SurfaceFit, MovesPartWayToARidgeWhenAFullSnapWouldOpenAnAngleTooFar) {
