@@ -695,9 +695,11 @@ struct Orientation {
 };
 
 Orientation countOrientation(const TriMesh& mesh, const CutMesh& cm, const SnappedCoordinates& s,
-                             std::vector<bool>* flippedFaces = nullptr) {
+                             std::vector<bool>* flippedFaces = nullptr,
+                             std::vector<bool>* degenerateFaces = nullptr) {
   Orientation o;
   if (flippedFaces) flippedFaces->assign(mesh.n_faces(), false);
+  if (degenerateFaces) degenerateFaces->assign(mesh.n_faces(), false);
   for (const auto fh : mesh.faces()) {
     std::array<const std::array<std::int64_t, 2>*, 3> z{};
     int c = 0;
@@ -705,7 +707,10 @@ Orientation countOrientation(const TriMesh& mesh, const CutMesh& cm, const Snapp
     const __int128 ax = (*z[1])[0] - (*z[0])[0], ay = (*z[1])[1] - (*z[0])[1];
     const __int128 bx = (*z[2])[0] - (*z[0])[0], by = (*z[2])[1] - (*z[0])[1];
     const __int128 det = ax * by - ay * bx;  // same sign in lattice and Cartesian coordinates
-    if (det == 0) ++o.degenerate;
+    if (det == 0) {
+      ++o.degenerate;
+      if (degenerateFaces) (*degenerateFaces)[fh.idx()] = true;
+    }
     if (det < 0) {
       ++o.flipped;
       if (flippedFaces) (*flippedFaces)[fh.idx()] = true;
@@ -714,11 +719,13 @@ Orientation countOrientation(const TriMesh& mesh, const CutMesh& cm, const Snapp
   return o;
 }
 
-// Rounding repair: fold-overs that stiffening cannot remove come from the rounding (typically two
-// singularities rounded onto the same lattice point). For the integer unknowns that the corners of
-// flipped triangles depend on, try moving each to a neighbouring lattice point (its effect on the
-// minimizer is linear: one back-substitution per unknown with the last factorization) and keep a
-// move when it leaves fewer flipped triangles. At most four passes over at most 32 units each.
+// Rounding repair: fold-overs and degenerate triangles that stiffening cannot remove come from
+// the rounding (typically two singularities rounded onto the same lattice point, or next to each
+// other). For the integer unknowns that the corners of flipped or degenerate triangles depend
+// on, try moving each to a neighbouring lattice point (its effect on the minimizer is linear: one
+// back-substitution per unknown with the last factorization) and keep a move when it leaves fewer
+// flipped triangles, or as many and fewer degenerate ones. At most four passes over at most 32
+// units each.
 void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
                     const EnergySystem& system, int n, Eigen::VectorXd& x,
                     SnappedCoordinates& snapped, Orientation& orientation,
@@ -727,10 +734,16 @@ void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
   std::map<int, int> unitOfColumn;
   for (std::size_t i = 0; i < units.size(); ++i)
     for (const int column : units[i]) unitOfColumn[column] = static_cast<int>(i);
-  for (int pass = 0; pass < 4 && orientation.flipped > 0; ++pass) {
+  const auto fewerFaults = [](const Orientation& a, const Orientation& b) {
+    return a.flipped != b.flipped ? a.flipped < b.flipped : a.degenerate < b.degenerate;
+  };
+  for (int pass = 0; pass < 4 && (orientation.flipped > 0 || orientation.degenerate > 0);
+       ++pass) {
+    std::vector<bool> degenerateFaces;
+    countOrientation(mesh, cm, snapped, nullptr, &degenerateFaces);
     std::set<int> involved;
     for (const auto fh : mesh.faces()) {
-      if (!flippedFaces[fh.idx()]) continue;
+      if (!flippedFaces[fh.idx()] && !degenerateFaces[fh.idx()]) continue;
       for (const auto h : mesh.fh_range(fh))
         for (const auto& row : u.wedgeRows[cm.halfedgeWedge[h.idx()]])
           for (const auto& [column, c] : row)
@@ -738,7 +751,7 @@ void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
               involved.insert(it->second);
       if (involved.size() >= 32) break;
     }
-    if (involved.empty()) return;  // the flipped corners do not depend on an integer unknown
+    if (involved.empty()) return;  // the faulty corners do not depend on an integer unknown
     bool improved = false;
     std::vector<int> columns;
     for (const int i : involved) columns.insert(columns.end(), units[i].begin(), units[i].end());
@@ -763,7 +776,7 @@ void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
         const SnappedCoordinates candidateSnap = snapCoordinates(mesh, cm, u, candidate, n);
         const Orientation candidateOrientation =
             countOrientation(mesh, cm, candidateSnap, &candidateFlipped);
-        if (candidateOrientation.flipped < orientation.flipped) {
+        if (fewerFaults(candidateOrientation, orientation)) {
           x = candidate;
           snapped = candidateSnap;
           orientation = candidateOrientation;
@@ -772,7 +785,7 @@ void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
           break;
         }
       }
-      if (orientation.flipped == 0) return;
+      if (orientation.flipped == 0 && orientation.degenerate == 0) return;
     }
     if (!improved) return;
   }
@@ -1152,6 +1165,11 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
     orientation = chosen.orientation;
     flippedFaces = std::move(chosen.flippedFaces);
   }
+  // Degenerate triangles (zero area, no fold-over) come from the rounding: a rounding move first.
+  if (orientation.flipped == 0 && orientation.degenerate > 0) {
+    ScopedTimer timer(result.timings, "rounding repair");
+    repairRounding(mesh, cm, unknowns, system, n, x, snapped, orientation, flippedFaces);
+  }
   {
     ScopedTimer timer(result.timings, "stiffening");
     // Stop after 3 re-solves without fewer flipped triangles: what remains is not a stiffness issue.
@@ -1188,7 +1206,7 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
       snapped = snapCoordinates(mesh, cm, unknowns, x, n);
       orientation = countOrientation(mesh, cm, snapped, &flippedFaces);
       // Stiffening moves the real unknowns; a rounding move may now remove what is left.
-      if (orientation.flipped > 0)
+      if (orientation.flipped > 0 || orientation.degenerate > 0)
         repairRounding(mesh, cm, unknowns, system, n, x, snapped, orientation, flippedFaces);
       const int remaining = orientation.flipped + orientation.degenerate;
       sinceBest = remaining < best ? 0 : sinceBest + 1;

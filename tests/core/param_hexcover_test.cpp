@@ -541,6 +541,25 @@ TEST(HexCoverFoldOvers, AreRelaxedLocallyWithoutAGlobalReSolve) {
   }
 }
 
+// Two +1/6 singularities at neighbouring vertices of bunny_7k (the lattice limit of clustering
+// keeps them apart) were rounded onto one lattice point: two parameter triangles of zero area,
+// which left a gap in the remesh and two irregular vertices away from the lattice's pattern. The
+// rounding repair moves one of them to a neighbouring lattice point.
+TEST(HexCoverDegenerate, SingularitiesRoundedOntoOneLatticePointAreSeparated) {
+  HEXCOVER_SHARED_MESH_OR_SKIP(path, "clean/bunny_7k.off");
+  const TriMesh mesh = loadMesh(path);
+  FieldOptions fieldOptions = latticeFieldOptions();
+  fieldOptions.singularityDistance =
+      kSingularityDistanceInEdges *
+      edgeLengthForVertexCount(mesh, static_cast<int>(mesh.n_vertices()) / 4, 6);
+  const RosyField field = computeRosyField(mesh, fieldOptions);
+  const Parameterization p = computeParameterization(mesh, field, ParamOptions{});
+  EXPECT_EQ(p.degenerateTriangles, 0);
+  EXPECT_EQ(p.flippedTriangles, 0);
+  expectSeamless(mesh, p);
+  expectSingularitiesOnLattice(mesh, field, p);
+}
+
 // With the field clustered at kSingularityDistanceInEdges lattice units (the default of the
 // pipeline and of `hexcover param`), no clean mesh has a fold-over; feline is the one that keeps
 // 16 flipped triangles at the paper's d_sing = 0.1·B (pairs of +1/6 singularities less than an
