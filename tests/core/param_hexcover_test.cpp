@@ -35,6 +35,16 @@ FieldOptions latticeFieldOptions() {
   return options;
 }
 
+/// latticeFieldOptions with the pipeline's d_sing: kSingularityDistanceInEdges edge lengths at
+/// the default target of a quarter of the mesh's vertices.
+FieldOptions pipelineFieldOptions(const TriMesh& mesh) {
+  FieldOptions options = latticeFieldOptions();
+  options.singularityDistance =
+      kSingularityDistanceInEdges *
+      edgeLengthForVertexCount(mesh, static_cast<int>(mesh.n_vertices()) / 4, 6);
+  return options;
+}
+
 /// Torus: the direction of the major circle, a field without singularities. It has curl (unit
 /// speed around circles of different radii), so the parameterization cannot follow it exactly;
 /// the tests use a slender torus (R = 6r) where the lattice unit still varies by ±1/6 across it.
@@ -548,11 +558,7 @@ TEST(HexCoverFoldOvers, AreRelaxedLocallyWithoutAGlobalReSolve) {
 TEST(HexCoverDegenerate, SingularitiesRoundedOntoOneLatticePointAreSeparated) {
   HEXCOVER_SHARED_MESH_OR_SKIP(path, "clean/bunny_7k.off");
   const TriMesh mesh = loadMesh(path);
-  FieldOptions fieldOptions = latticeFieldOptions();
-  fieldOptions.singularityDistance =
-      kSingularityDistanceInEdges *
-      edgeLengthForVertexCount(mesh, static_cast<int>(mesh.n_vertices()) / 4, 6);
-  const RosyField field = computeRosyField(mesh, fieldOptions);
+  const RosyField field = computeRosyField(mesh, pipelineFieldOptions(mesh));
   const Parameterization p = computeParameterization(mesh, field, ParamOptions{});
   EXPECT_EQ(p.degenerateTriangles, 0);
   EXPECT_EQ(p.flippedTriangles, 0);
@@ -567,11 +573,7 @@ TEST(HexCoverDegenerate, SingularitiesRoundedOntoOneLatticePointAreSeparated) {
 TEST(HexCoverFoldOvers, FelineHasNoneWithSingularitiesClusteredAtTheDefaultDistance) {
   HEXCOVER_SHARED_MESH_OR_SKIP(path, "clean/feline.off");
   const TriMesh mesh = loadMesh(path);
-  FieldOptions fieldOptions = latticeFieldOptions();
-  fieldOptions.singularityDistance =
-      kSingularityDistanceInEdges *
-      edgeLengthForVertexCount(mesh, static_cast<int>(mesh.n_vertices()) / 4, 6);
-  const RosyField field = computeRosyField(mesh, fieldOptions);
+  const RosyField field = computeRosyField(mesh, pipelineFieldOptions(mesh));
   const Parameterization p = computeParameterization(mesh, field, ParamOptions{});
   EXPECT_EQ(p.flippedTriangles, 0);
   expectSeamless(mesh, p);
