@@ -694,6 +694,11 @@ struct Orientation {
   int degenerate = 0;
 };
 
+/// Fewer flipped triangles, or as many and fewer degenerate ones.
+bool fewerFaults(const Orientation& a, const Orientation& b) {
+  return a.flipped != b.flipped ? a.flipped < b.flipped : a.degenerate < b.degenerate;
+}
+
 Orientation countOrientation(const TriMesh& mesh, const CutMesh& cm, const SnappedCoordinates& s,
                              std::vector<bool>* flippedFaces = nullptr,
                              std::vector<bool>* degenerateFaces = nullptr) {
@@ -734,9 +739,6 @@ void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
   std::map<int, int> unitOfColumn;
   for (std::size_t i = 0; i < units.size(); ++i)
     for (const int column : units[i]) unitOfColumn[column] = static_cast<int>(i);
-  const auto fewerFaults = [](const Orientation& a, const Orientation& b) {
-    return a.flipped != b.flipped ? a.flipped < b.flipped : a.degenerate < b.degenerate;
-  };
   for (int pass = 0; pass < 4 && (orientation.flipped > 0 || orientation.degenerate > 0);
        ++pass) {
     std::vector<bool> degenerateFaces;
@@ -1177,9 +1179,6 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
     // can fold a triangle that an earlier one had unfolded, so the best iterate (fewest flipped,
     // then fewest degenerate triangles; the later one on ties) is the result.
     int best = orientation.flipped + orientation.degenerate, sinceBest = 0;
-    const auto fewerFaults = [](const Orientation& a, const Orientation& b) {
-      return a.flipped != b.flipped ? a.flipped < b.flipped : a.degenerate < b.degenerate;
-    };
     Eigen::VectorXd bestX = x;
     SnappedCoordinates bestSnapped = snapped;
     Orientation bestOrientation = orientation;
