@@ -633,8 +633,8 @@ bool stitchFrontByValence(const BoundaryIndex& index, int loop, int component,
     if (weight > 0.0) moved[k] += move / weight;
   }
   for (int k = 0; k < m; ++k) {
-    const double next = k + 1 < m ? moved[k + 1] : moved[0] + length;
-    if (!(moved[k] < next)) return false;  // the corners would reorder the samples
+    const double following = k + 1 < m ? moved[k + 1] : moved[0] + length;
+    if (!(moved[k] < following)) return false;  // the corners would reorder the samples
   }
   std::copy(moved.begin(), moved.end(), arc.begin());
   arc[m] = arc[0] + length;

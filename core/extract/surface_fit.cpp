@@ -93,11 +93,12 @@ class SurfaceFit {
       for (const auto& [distance, v] : corners) {
         if (locked_[v.idx()] || distance > reach) continue;
         // Onto the point, or failing that part of the way (projected onto the input) while the
-        // fan keeps its angles.
+        // fan keeps its angles and comes closer to the input.
+        const double deviation = fanDeviation(v, position(v));
         const auto acceptable = [&](const Vec3& p) {
           const auto range = fanAngleRange(remesh_, v, p);
           return range[0] >= kSnapMinAngle && range[1] <= kSnapMaxAngle &&
-                 fanDeviation(v, p) < fanDeviation(v, position(v));
+                 fanDeviation(v, p) < deviation;
         };
         std::optional<Vec3> moveTo;
         for (const double fraction : kSnapFractions) {
@@ -186,7 +187,7 @@ class SurfaceFit {
  private:
   TriMesh& remesh_;
   const ClosestPointQuery& inputQuery_;
-  std::vector<char> locked_;  ///< per remesh vertex: boundary, isolated or snapped
+  std::vector<char> locked_;  ///< per remesh vertex: boundary, isolated or snapped all the way
   std::vector<char> moved_;   ///< per remesh vertex: moved since the last assignInputPoints
   std::vector<Vec3> inputPoints_;
   double meanEdgeLength_ = 0.0;  ///< of the remesh as extracted

@@ -739,10 +739,10 @@ void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
   std::map<int, int> unitOfColumn;
   for (std::size_t i = 0; i < units.size(); ++i)
     for (const int column : units[i]) unitOfColumn[column] = static_cast<int>(i);
+  std::vector<bool> degenerateFaces;  // kept up to date with flippedFaces below
+  countOrientation(mesh, cm, snapped, nullptr, &degenerateFaces);
   for (int pass = 0; pass < 4 && (orientation.flipped > 0 || orientation.degenerate > 0);
        ++pass) {
-    std::vector<bool> degenerateFaces;
-    countOrientation(mesh, cm, snapped, nullptr, &degenerateFaces);
     std::set<int> involved;
     for (const auto fh : mesh.faces()) {
       if (!flippedFaces[fh.idx()] && !degenerateFaces[fh.idx()]) continue;
@@ -769,20 +769,20 @@ void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
         moves = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, -1}, {-1, 1}};
       else
         moves = {{1, 0}, {-1, 0}};
-      Eigen::VectorXd best;
       for (const auto& move : moves) {
         Eigen::VectorXd candidate = x;
         for (std::size_t k = 0; k < unit.size(); ++k) candidate += move[k] * response[k];
         for (const int column : unit) candidate[column] = std::round(candidate[column]);
-        std::vector<bool> candidateFlipped;
+        std::vector<bool> candidateFlipped, candidateDegenerate;
         const SnappedCoordinates candidateSnap = snapCoordinates(mesh, cm, u, candidate, n);
         const Orientation candidateOrientation =
-            countOrientation(mesh, cm, candidateSnap, &candidateFlipped);
+            countOrientation(mesh, cm, candidateSnap, &candidateFlipped, &candidateDegenerate);
         if (fewerFaults(candidateOrientation, orientation)) {
           x = candidate;
           snapped = candidateSnap;
           orientation = candidateOrientation;
           flippedFaces = std::move(candidateFlipped);
+          degenerateFaces = std::move(candidateDegenerate);
           improved = true;
           break;
         }

@@ -15,6 +15,7 @@
 #include "core/field/rosy_field.h"
 #include "core/mesh/load.h"
 #include "core/mesh/primitives.h"
+#include "core/param/hexcover.h"  // kMergedIndexForLattice: the fields for a parameterization
 #include "tests/common/test_meshes.h"
 
 namespace hexcover {
@@ -53,9 +54,6 @@ Eigen::Vector3d faceNormal(const TriMesh& mesh, TriMesh::FaceHandle fh) {
 
 /// Ordered pairs of interior singularities closer than d_sing whose merge clustering allows
 /// (it would not raise |I| above maxMergedIndex, or it lowers the larger |I|).
-/// FieldOptions::maxMergedIndex of the fields for a parameterization (kMergedIndexForLattice).
-constexpr int kUnitMergesOnly = 1;
-
 int closeMergeablePairs(const TriMesh& mesh, const RosyField& field, int maxMergedIndex) {
   const field::EdgeGraph graph(mesh);
   int pairs = 0;
@@ -290,7 +288,7 @@ TEST(FieldSolver, ClusteringOnTheBunnyLeavesNoTwoSingularitiesCloserThanDSing) {
   const RosyField unclustered = computeRosyField(mesh, options);
   options.clusterSingularities = true;
   const RosyField field = computeRosyField(mesh, options);  // the paper's merges
-  options.maxMergedIndex = kUnitMergesOnly;
+  options.maxMergedIndex = kMergedIndexForLattice;
   const RosyField lattice = computeRosyField(mesh, options);
 
   for (const RosyField* clustered : {&field, &lattice}) {
@@ -301,7 +299,7 @@ TEST(FieldSolver, ClusteringOnTheBunnyLeavesNoTwoSingularitiesCloserThanDSing) {
   }
   EXPECT_EQ(closeMergeablePairs(mesh, field, std::numeric_limits<int>::max()), 0);
   // With merges limited to |I| = 1, only pairs whose merge the limit forbids stay closer.
-  EXPECT_EQ(closeMergeablePairs(mesh, lattice, kUnitMergesOnly), 0);
+  EXPECT_EQ(closeMergeablePairs(mesh, lattice, kMergedIndexForLattice), 0);
   EXPECT_GT(closeMergeablePairs(mesh, lattice, std::numeric_limits<int>::max()), 0);
 }
 
@@ -312,13 +310,13 @@ TEST(FieldSolver, NeedleVerticesLeaveNoClustersOnFeline) {
   HEXCOVER_SHARED_MESH_OR_SKIP(path, "clean/feline.off");
   const TriMesh mesh = loadMesh(path);
   FieldOptions options;
-  options.maxMergedIndex = kUnitMergesOnly;
+  options.maxMergedIndex = kMergedIndexForLattice;
   const RosyField field = computeRosyField(mesh, options);
   EXPECT_EQ(indexSum(field), 6 * field.eulerCharacteristic);
   for (const auto& s : field.singularities) {
     if (!s.onBoundary) EXPECT_LE(std::abs(s.index), 1) << "vertex " << s.vertex;
   }
-  EXPECT_EQ(closeMergeablePairs(mesh, field, kUnitMergesOnly), 0);
+  EXPECT_EQ(closeMergeablePairs(mesh, field, kMergedIndexForLattice), 0);
 }
 
 }  // namespace

@@ -106,6 +106,15 @@ void expectSingularitiesOnLattice(const TriMesh& mesh, const RosyField& field,
   }
 }
 
+/// What every parameterization of a clean mesh must be: no fold-over, seamless, singularities on
+/// lattice points.
+void expectSeamlessLatticeMapWithoutFoldOvers(const TriMesh& mesh, const RosyField& field,
+                                              const Parameterization& p) {
+  EXPECT_EQ(p.flippedTriangles, 0);
+  expectSeamless(mesh, p);
+  expectSingularitiesOnLattice(mesh, field, p);
+}
+
 /// Euler characteristic of the mesh cut open along the cut edges, per component: corners of a
 /// vertex split into one wedge per cut edge (plus one at a boundary vertex).
 std::vector<int> cutMeshEulerCharacteristic(const TriMesh& mesh, const std::vector<bool>& cutEdge,
@@ -512,10 +521,8 @@ TEST_P(HexCoverSharedMesh, IsSeamlessWithoutFoldOversAtTheDefaultEdgeLength) {
   const TriMesh mesh = loadMesh(path);
   const RosyField field = computeRosyField(mesh, latticeFieldOptions());
   const Parameterization p = computeParameterization(mesh, field, ParamOptions{});
-  expectSeamless(mesh, p);
-  expectSingularitiesOnLattice(mesh, field, p);
+  expectSeamlessLatticeMapWithoutFoldOvers(mesh, field, p);
   expectCutOpensToDisks(mesh, field);
-  EXPECT_EQ(p.flippedTriangles, 0);
   EXPECT_NEAR(meanLatticeUnitLength(mesh, p) / p.edgeLength, 1.0, 0.05);
   const double alignment = meanAlignmentDegrees(mesh, field, p);
   EXPECT_LT(alignment, 8.0);
@@ -561,9 +568,7 @@ TEST(HexCoverDegenerate, SingularitiesRoundedOntoOneLatticePointAreSeparated) {
   const RosyField field = computeRosyField(mesh, pipelineFieldOptions(mesh));
   const Parameterization p = computeParameterization(mesh, field, ParamOptions{});
   EXPECT_EQ(p.degenerateTriangles, 0);
-  EXPECT_EQ(p.flippedTriangles, 0);
-  expectSeamless(mesh, p);
-  expectSingularitiesOnLattice(mesh, field, p);
+  expectSeamlessLatticeMapWithoutFoldOvers(mesh, field, p);
 }
 
 // With the field clustered at kSingularityDistanceInEdges lattice units (the default of the
@@ -575,9 +580,7 @@ TEST(HexCoverFoldOvers, FelineHasNoneWithSingularitiesClusteredAtTheDefaultDista
   const TriMesh mesh = loadMesh(path);
   const RosyField field = computeRosyField(mesh, pipelineFieldOptions(mesh));
   const Parameterization p = computeParameterization(mesh, field, ParamOptions{});
-  EXPECT_EQ(p.flippedTriangles, 0);
-  expectSeamless(mesh, p);
-  expectSingularitiesOnLattice(mesh, field, p);
+  expectSeamlessLatticeMapWithoutFoldOvers(mesh, field, p);
 }
 
 }  // namespace
