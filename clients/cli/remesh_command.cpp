@@ -80,6 +80,7 @@ nlohmann::json metricsDocument(const RemeshResult& result) {
                         {"feature_snaps", r.featureSnaps},
                         {"smoothed_vertices", r.smoothedVertices},
                         {"relaxed_vertices", r.relaxedVertices},
+                        {"balanced_vertices", r.balancedVertices},
                         {"boundary_sliver_flips", r.boundarySliverFlips},
                         {"non_manifold_faces_dropped", r.nonManifoldFacesDropped}};
   return json;

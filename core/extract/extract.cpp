@@ -1128,10 +1128,12 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     if (options.fitToSurface && result.triangles.n_faces() > 0) {
       const ClosestPointQuery inputQuery(mesh);
       const auto counts = extract_detail::fitRemeshToSurface(mesh, inputQuery, result.triangles,
-                                                             options.featureSnapDistance);
+                                                             options.featureSnapDistance,
+                                                             options.balanceDeviation);
       report.featureSnaps = counts.snapped;
       report.smoothedVertices = counts.smoothed;
       report.relaxedVertices = counts.relaxed;
+      report.balancedVertices = counts.balanced;
     }
     if (options.sliverAngle > 0.0)
       report.boundarySliverFlips = flipBoundarySlivers(result.triangles, options.sliverAngle);

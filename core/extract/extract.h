@@ -35,7 +35,9 @@
 // 7. Fit (surface_fit.h): vertices move over the input surface where the lattice cuts off a
 //    sharp crease or tip (feature snapping), next to poor triangles (smoothing) and where the
 //    angles stray from 60° (relaxation), when that does not raise the local deviation from the
-//    input; the connectivity stays.
+//    input; last, interior vertices move off the input along their normal where that lowers the
+//    two-sided deviation (balancing: a convex patch's triangles no longer lie all inside it);
+//    the connectivity stays.
 // 8. Boundary slivers: a triangle at the output boundary that still has an angle below
 //    `sliverAngle` (next to a sharp corner of the boundary) gets the edge flip that raises its
 //    pair's smallest angle, although that moves two valences away from 6.
@@ -63,8 +65,11 @@ struct ExtractOptions {
   /// as output vertices (sharp corners). In [0, 180].
   double sharpBoundaryAngle = 30.0;
   /// Step 7: fit the remesh to the input surface (feature snapping, smoothing of poor triangles,
-  /// relaxation). Off: the vertices stay at the lattice points' positions.
+  /// relaxation, balancing). Off: the vertices stay at the lattice points' positions.
   bool fitToSurface = true;
+  /// Step 7's balancing: interior vertices move off the input along their normal where that
+  /// lowers the two-sided deviation (surface_fit.h). Off: every vertex stays on the input.
+  bool balanceDeviation = true;
   /// Input vertices farther than this many local edge lengths from the remesh pull a remesh
   /// vertex onto themselves (step 7). In [0, 1); 0 disables snapping.
   double featureSnapDistance = 0.35;
@@ -101,6 +106,7 @@ struct ExtractionReport {
   long long featureSnaps = 0;          ///< vertices moved onto a sharp feature of the input
   long long smoothedVertices = 0;      ///< vertex moves that opened up poor triangles
   long long relaxedVertices = 0;       ///< relaxation moves (angles nearer 60°)
+  long long balancedVertices = 0;      ///< balancing moves (off the input, along the normal)
   long long boundarySliverFlips = 0;   ///< step 8: flips of slivers at the output boundary
   long long nonManifoldVertices = 0;   ///< vertices with several fans, re-triangulated locally
   long long nonManifoldFacesDropped = 0;  ///< faces OpenMesh still refused (would be non-manifold)

@@ -37,6 +37,16 @@ constexpr int kRelaxPasses = 3;
 /// Smoothing's trial moves besides the centroid: directions, and steps in local edge lengths.
 constexpr int kTrialDirections = 8;
 constexpr std::array<double, 3> kTrialSteps{0.1, 0.2, 0.35};
+/// Balancing moves vertices whose fan deviates from the input by more than kBalanceMinDeviation
+/// local edge lengths along their fan's normal, by at most kBalanceReach local edge lengths, in
+/// kBalancePasses passes; golden-section search in kBalanceSearchSteps steps, the fan sampled on
+/// a barycentric grid of kBalanceDivisions divisions.
+constexpr double kBalanceMinDeviation = 0.05;
+constexpr double kBalanceShareOfLargest = 0.5;
+constexpr double kBalanceReach = 0.5;
+constexpr int kBalancePasses = 4;
+constexpr int kBalanceSearchSteps = 8;
+constexpr int kBalanceDivisions = 3;
 
 class SurfaceFit {
  public:
@@ -49,6 +59,12 @@ class SurfaceFit {
       locked_[v.idx()] = remesh_.is_boundary(v) || remesh_.is_isolated(v);
     for (const auto v : input.vertices())
       if (!input.is_isolated(v)) inputPoints_.push_back(toEigen(input.point(v)));
+    featurePointCount_ = inputPoints_.size();
+    for (const auto f : input.faces()) {
+      Vec3 centroid = Vec3::Zero();
+      for (const auto v : f.vertices()) centroid += toEigen(input.point(v)) / 3.0;
+      inputPoints_.push_back(centroid);
+    }
     double lengthSum = 0.0;
     for (const auto e : remesh_.edges()) lengthSum += remesh_.calc_edge_length(e);
     meanEdgeLength_ =
@@ -65,7 +81,7 @@ class SurfaceFit {
       int point;
     };
     std::vector<Candidate> candidates;
-    for (std::size_t i = 0; i < inputPoints_.size(); ++i)
+    for (std::size_t i = 0; i < featurePointCount_; ++i)
       if (nearest_[i].distance >
           snapDistance * std::min(faceEdgeLength(nearest_[i].face), meanEdgeLength_))
         candidates.push_back({nearest_[i].distance, static_cast<int>(i)});
@@ -184,12 +200,64 @@ class SurfaceFit {
     return moves;
   }
 
+  /// Balancing (see surface_fit.h); returns the number of moves.
+  long long balance() {
+    // Only fans that deviate by at least kBalanceShareOfLargest of the largest fan deviation
+    // (and kBalanceMinDeviation local edge lengths) are balanced: the two-sided distance is a
+    // maximum, and a line search costs about a thousand closest-point queries.
+    assignInputPoints();
+    std::vector<double> deviation(remesh_.n_vertices(), 0.0);
+    double largest = 0.0;
+    for (const auto v : remesh_.vertices()) {
+      if (remesh_.is_boundary(v) || remesh_.is_isolated(v)) continue;
+      deviation[v.idx()] = fanDeviation(v, position(v));
+      largest = std::max(largest, deviation[v.idx()]);
+    }
+    const double threshold = kBalanceShareOfLargest * largest;
+    long long moves = 0;
+    std::vector<char> visit(remesh_.n_vertices(), 1);
+    for (int pass = 0; pass < kBalancePasses; ++pass) {
+      if (pass > 0) assignInputPoints();
+      std::vector<char> next(remesh_.n_vertices(), 0);
+      for (const auto v : remesh_.vertices()) {
+        if (!visit[v.idx()] || remesh_.is_boundary(v) || remesh_.is_isolated(v)) continue;
+        const Vec3 current = position(v);
+        const double length = vertexEdgeLength(v);
+        // Later passes visit the neighbours of moves, whose deviation changed.
+        if (pass > 0) deviation[v.idx()] = fanDeviation(v, current);
+        if (deviation[v.idx()] < std::max(threshold, kBalanceMinDeviation * length)) continue;
+        const double before = fanDeviation(v, current, kBalanceDivisions);
+        Vec3 normal = Vec3::Zero();
+        for (const auto f : v.faces())
+          normal += triangleNormal(facePositions(remesh_, f, OpenMesh::VertexHandle(), current));
+        if (!(normal.norm() > 0.0)) continue;
+        normal.normalize();
+        const auto [t, after] = searchLine(v, current, normal, kBalanceReach * length);
+        const Vec3 candidate = current + t * normal;
+        if (!(after < before) ||
+            fanAngleBadness(remesh_, v, candidate) >
+                std::max(fanAngleBadness(remesh_, v, current),
+                         angleBadness({kSnapMinAngle, kSnapMaxAngle})))
+          continue;
+        remesh_.set_point(v, toOpenMesh(candidate));
+        moved_[v.idx()] = 1;
+        for (const auto w : v.vertices()) next[w.idx()] = 1;
+        ++moves;
+      }
+      visit.swap(next);
+    }
+    return moves;
+  }
+
  private:
   TriMesh& remesh_;
   const ClosestPointQuery& inputQuery_;
   std::vector<char> locked_;  ///< per remesh vertex: boundary, isolated or snapped all the way
   std::vector<char> moved_;   ///< per remesh vertex: moved since the last assignInputPoints
+  /// The input's vertices (the first featurePointCount_, the snaps' targets), then its face
+  /// centroids.
   std::vector<Vec3> inputPoints_;
+  std::size_t featurePointCount_ = 0;
   double meanEdgeLength_ = 0.0;  ///< of the remesh as extracted
   /// Per input point: its closest remesh triangle (refreshed by assignInputPoints).
   std::vector<ClosestPointQuery::Result> nearest_;
@@ -197,6 +265,29 @@ class SurfaceFit {
   std::vector<std::vector<int>> facePoints_;
 
   Vec3 position(OpenMesh::VertexHandle v) const { return toEigen(remesh_.point(v)); }
+
+  /// Golden-section search of the offset t in [−reach, reach] that minimizes the deviation of v's
+  /// fan with v at from + t·direction; returns t and that deviation.
+  std::pair<double, double> searchLine(SVH v, const Vec3& from, const Vec3& direction,
+                                       double reach) const {
+    const auto at = [&](double t) {
+      return fanDeviation(v, from + t * direction, kBalanceDivisions);
+    };
+    const double ratio = (std::sqrt(5.0) - 1.0) / 2.0;
+    double lo = -reach, hi = reach;
+    double x1 = hi - ratio * (hi - lo), x2 = lo + ratio * (hi - lo);
+    double f1 = at(x1), f2 = at(x2);
+    for (int step = 0; step < kBalanceSearchSteps; ++step) {
+      if (f1 < f2) {
+        hi = x2, x2 = x1, f2 = f1;
+        x1 = hi - ratio * (hi - lo), f1 = at(x1);
+      } else {
+        lo = x1, x1 = x2, f1 = f2;
+        x2 = lo + ratio * (hi - lo), f2 = at(x2);
+      }
+    }
+    return f1 < f2 ? std::pair{x1, f1} : std::pair{x2, f2};
+  }
 
   /// Sum over v's triangles of the squared deviations of their angles from 60° with v at p.
   double fanAngleVariance(SVH v, const Vec3& p) const {
@@ -268,8 +359,10 @@ class SurfaceFit {
       facePoints_[nearest_[i].face].push_back(static_cast<int>(i));
   }
 
-  /// Local deviation between v's fan (v at p) and the input (see surface_fit.h).
-  double fanDeviation(SVH v, const Vec3& p) const {
+  /// Local deviation between v's fan (v at p) and the input (see surface_fit.h). With
+  /// `divisions` > 1 the fan's triangles are sampled on a barycentric grid of that many
+  /// divisions instead of at their centroids and v's edge midpoints.
+  double fanDeviation(SVH v, const Vec3& p, int divisions = 1) const {
     double deviation = 0.0;
     std::vector<std::array<Vec3, 3>> fan;
     for (const auto f : v.faces()) fan.push_back(facePositions(remesh_, f, v, p));
@@ -281,9 +374,24 @@ class SurfaceFit {
           d = std::min(d, (closestPointOnTriangle(q, t[0], t[1], t[2]) - q).norm());
         deviation = std::max(deviation, d);
       }
-    // The moving parts of the fan: its triangles' centroids and the midpoints of v's edges.
+    // The moving parts of the fan: v, its triangles' centroids and the midpoints of v's edges.
     // Queries start from the input face nearest p, which makes them short.
-    const int hint = inputQuery_.closest(p).face;
+    const auto self = inputQuery_.closest(p);
+    const int hint = self.face;
+    deviation = std::max(deviation, self.distance);
+    if (divisions > 1) {
+      for (const auto& t : fan)
+        for (int i = 0; i <= divisions; ++i)
+          for (int j = 0; i + j <= divisions; ++j) {
+            const int k = divisions - i - j;
+            if (i == divisions || j == divisions || k == divisions) continue;
+            const int weightAtV = t[0] == p ? i : t[1] == p ? j : k;
+            if (weightAtV == 0) continue;  // on the edge opposite v: does not move
+            const Vec3 q = (i * t[0] + j * t[1] + k * t[2]) / divisions;
+            deviation = std::max(deviation, inputQuery_.closest(q, hint).distance);
+          }
+      return deviation;
+    }
     for (const auto& t : fan)
       deviation =
           std::max(deviation, inputQuery_.closest((t[0] + t[1] + t[2]) / 3.0, hint).distance);
@@ -296,7 +404,8 @@ class SurfaceFit {
 }  // namespace
 
 SurfaceFitCounts fitRemeshToSurface(const TriMesh& input, const ClosestPointQuery& inputQuery,
-                                    TriMesh& remesh, double featureSnapDistance, int rounds) {
+                                    TriMesh& remesh, double featureSnapDistance,
+                                    bool balanceDeviation, int rounds) {
   SurfaceFitCounts counts;
   if (input.n_faces() == 0 || remesh.n_faces() == 0) return counts;
   SurfaceFit fit(input, inputQuery, remesh);
@@ -308,6 +417,7 @@ SurfaceFitCounts fitRemeshToSurface(const TriMesh& input, const ClosestPointQuer
     if (snapped + smoothed == 0) break;
   }
   counts.relaxed = fit.relax();
+  if (balanceDeviation) counts.balanced = fit.balance();
   return counts;
 }
 

@@ -1,6 +1,6 @@
 // Fitting the remesh to the input surface (core/extract/surface_fit.h): feature snapping onto a
-// sharp ridge (its threshold, part-way moves) and smoothing of a poor triangle on a sphere, on
-// meshes generated here.
+// sharp ridge (its threshold, part-way moves), smoothing of a poor triangle on a sphere,
+// relaxation and balancing about the input surface, on meshes generated here.
 
 #include <gtest/gtest.h>
 
@@ -12,6 +12,7 @@
 #include "core/extract/surface_fit.h"
 #include "core/geometry/closest_point.h"
 #include "core/mesh/primitives.h"
+#include "core/metrics/hausdorff.h"
 
 namespace hexcover::extract_detail {
 namespace {
@@ -89,7 +90,8 @@ TEST(SurfaceFit, SnapsVerticesOntoASharpRidgeThatTheCoarseMeshCutsOff) {
   const double cutOff = largestDistance(ridge, remesh);
   ASSERT_GT(cutOff, 0.1) << "the coarse mesh should miss the ridge";
 
-  const SurfaceFitCounts counts = fitRemeshToSurface(input, ClosestPointQuery(input), remesh, 0.1);
+  const SurfaceFitCounts counts = fitRemeshToSurface(input, ClosestPointQuery(input), remesh, 0.1,
+                                                     /*balanceDeviation=*/false);
   EXPECT_GT(counts.snapped, 0);
   EXPECT_LT(largestDistance(ridge, remesh), 0.5 * cutOff);
   // Same triangles; every vertex still on the roof; boundary vertices where they were.
@@ -141,11 +143,11 @@ TEST(SurfaceFit, MeasuresTheSnapThresholdAgainstTheMeanEdgeLengthWhereTrianglesA
   TriMesh alone = liftedGridOnTheRoof(false);
   const double cutOff = largestDistance(ridge, alone);
   ASSERT_LT(cutOff, 0.45) << "the ridge should be within the threshold of the coarse grid alone";
-  EXPECT_EQ(fitRemeshToSurface(input, ClosestPointQuery(input), alone, 0.45).snapped, 0);
+  EXPECT_EQ(fitRemeshToSurface(input, ClosestPointQuery(input), alone, 0.45, false).snapped, 0);
 
   TriMesh withFine = liftedGridOnTheRoof(true);
   const SurfaceFitCounts counts =
-      fitRemeshToSurface(input, ClosestPointQuery(input), withFine, 0.45);
+      fitRemeshToSurface(input, ClosestPointQuery(input), withFine, 0.45, false);
   EXPECT_GT(counts.snapped, 0);
   EXPECT_LT(largestDistance(ridge, withFine), 0.5 * cutOff);
 }
@@ -183,7 +185,7 @@ TEST(SurfaceFit, MovesPartWayToARidgeWhenAFullSnapWouldOpenAnAngleTooFar) {
   const std::vector<Vec3> ridgePoint{Vec3(0.0, kRidge, 0.0)};
   const double before = largestDistance(ridgePoint, fan);
 
-  const SurfaceFitCounts counts = fitRemeshToSurface(input, ClosestPointQuery(input), fan, 0.1);
+  const SurfaceFitCounts counts = fitRemeshToSurface(input, ClosestPointQuery(input), fan, 0.1, false);
   EXPECT_GE(counts.snapped, 1);  // part-way moves may go on in later rounds
   const auto moved = fan.point(centre);
   EXPECT_GT(moved[1], 0.3);
@@ -208,8 +210,10 @@ TEST(SurfaceFit, SmoothsAPoorTriangleAndKeepsTheVertexOnTheSurface) {
   const double poor = smallestAngleDegrees(remesh);
   ASSERT_LT(poor, 25.0);
 
-  const SurfaceFitCounts counts = fitRemeshToSurface(input, onInput, remesh, 0.0);
+  const SurfaceFitCounts counts =
+      fitRemeshToSurface(input, onInput, remesh, 0.0, /*balanceDeviation=*/false);
   EXPECT_EQ(counts.snapped, 0) << "snapping is off";
+  EXPECT_EQ(counts.balanced, 0) << "balancing is off";
   EXPECT_GT(counts.smoothed, 0);
   EXPECT_GT(smallestAngleDegrees(remesh), 40.0) << "was " << poor;
   for (const auto v : remesh.vertices())
@@ -269,6 +273,33 @@ TEST(SurfaceFit, OnlyRelaxesAMeshThatMatchesTheInput) {
   EXPECT_LE(angleSd(remesh), angleSd(input));
   for (const auto v : remesh.vertices())
     EXPECT_LT(onInput.closest(toEigen(remesh.point(v))).distance, 1e-12);
+}
+
+TEST(SurfaceFit, BalancesACoarseSphereAboutTheInputSurface) {
+  // An icosphere of 42 vertices on a finely tessellated unit sphere: its triangles lie inside
+  // the sphere by up to their sagitta (0.1 edge lengths). Lifting the vertices by about half of it balances the two
+  // sides, so the two-sided distance drops by about half; angles barely change.
+  const TriMesh input = makeIcosphere(5);
+  const ClosestPointQuery onInput(input);
+  TriMesh remesh = makeIcosphere(1);
+  const TwoSidedDistance before = twoSidedDistance(input, remesh);
+  const double sdBefore = angleSd(remesh);
+
+  TriMesh unbalanced = remesh;
+  EXPECT_EQ(fitRemeshToSurface(input, onInput, unbalanced, 0.35, false).balanced, 0);
+  EXPECT_NEAR(twoSidedDistance(input, unbalanced).hausdorff(), before.hausdorff(),
+              1e-3 * before.hausdorff())
+      << "without balancing nothing moves off the sphere";
+
+  const SurfaceFitCounts counts = fitRemeshToSurface(input, onInput, remesh, 0.35);
+  EXPECT_GE(counts.balanced, 42);
+  const TwoSidedDistance after = twoSidedDistance(input, remesh);
+  EXPECT_LT(after.hausdorff(), 0.65 * before.hausdorff());
+  EXPECT_LT(after.aToB.max, 0.65 * before.aToB.max) << "the sphere comes closer to the remesh";
+  EXPECT_GT(after.bToA.max, 0.2 * before.hausdorff()) << "the vertices leave the sphere";
+  for (const auto v : remesh.vertices())
+    EXPECT_GT(toEigen(remesh.point(v)).norm(), 1.0) << "lifted outwards";
+  EXPECT_LT(angleSd(remesh), sdBefore + 0.5);
 }
 
 }  // namespace
