@@ -26,7 +26,7 @@ double oppositeCotangent(const TriMesh& mesh, OpenMesh::SmartHalfedgeHandle h) {
 }  // namespace
 
 std::vector<double> conformalFaceScale(const TriMesh& mesh, const RosyField& field,
-                                       double maxLogScale) {
+                                       double maxLogScale, double maxLogGrowth) {
   if (field.faceDirection.size() != mesh.n_faces() || field.edgeMatching.size() != mesh.n_edges())
     throw Error(ErrorCode::InvalidOption, "conformal scale: the field does not belong to this mesh");
   const FaceFrames frames = computeFaceFrames(mesh);
@@ -103,7 +103,7 @@ std::vector<double> conformalFaceScale(const TriMesh& mesh, const RosyField& fie
     const int f = fh.idx(), c = components.faceComponent[f];
     const double shift = scaledLength[c] > 0.0 ? std::log(scaledLength[c] / totalArea[c]) : 0.0;
     if (area[f] > 0.0)
-      scale[f] = std::exp(std::clamp(logScale[f] + shift, -maxLogScale, maxLogScale));
+      scale[f] = std::exp(std::clamp(logScale[f] + shift, -maxLogGrowth, maxLogScale));
   }
   return scale;
 }

@@ -25,12 +25,17 @@
 
 namespace hexcover {
 
-/// #F factors e^{φ_f} (φ_f: mean of the face's corner values, clamped to [−maxLogScale,
-/// maxLogScale]), normalized per connected component so that the area-weighted mean lattice
-/// unit Σ_f A_f e^{−φ_f} / Σ_f A_f is 1: one lattice unit is h on average. Degenerate faces get 1.
+/// #F factors e^{φ_f} (φ_f: mean of the face's corner values), normalized per connected
+/// component so that the area-weighted mean lattice unit Σ_f A_f e^{−φ_f} / Σ_f A_f is 1 (one
+/// lattice unit is h on average), then clamped to [−maxLogGrowth, maxLogScale]: lattice units
+/// from h·e^{−maxLogScale} to h·e^{maxLogGrowth}. Growth is bounded more tightly by default:
+/// where Gauss curvature is not matched by singularities (a tip between them, a fold narrower
+/// than d_sing) the scale would leave triangles up to e times the mean edge length, whose
+/// distance from the input breaks the Hausdorff floor (max-planck at K = V/4: 1.22 → 0.97% with
+/// growth bounded by e^0.5), while smaller triangles only cost vertices. Degenerate faces get 1.
 /// Throws Error(InvalidOption) when the field is not one of this mesh.
 std::vector<double> conformalFaceScale(const TriMesh& mesh, const RosyField& field,
-                                       double maxLogScale = 1.0);
+                                       double maxLogScale = 1.0, double maxLogGrowth = 0.5);
 
 /// Σ_f A_f s_f² / Σ_f A_f: a lattice scaled by faceScale has this many times the vertices of
 /// a uniform one with the same h (so h·sqrt(factor) keeps the vertex count).

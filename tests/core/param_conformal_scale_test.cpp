@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/field/rosy_field.h"
@@ -49,7 +50,7 @@ TEST(ConformalScale, TorusParallelsScaleAsTheInverseDistanceFromTheAxis) {
   const TriMesh mesh = makeTorus(3.0, 1.0, 120, 40);
   const RosyField field = parallelsField(mesh);
   ASSERT_TRUE(field.singularities.empty());
-  const std::vector<double> scale = conformalFaceScale(mesh, field, 5.0);
+  const std::vector<double> scale = conformalFaceScale(mesh, field, 5.0, 5.0);
   std::vector<double> logScale, residual;
   for (const auto fh : mesh.faces()) {
     const Eigen::Vector3d c = faceCentroid(mesh, fh);
@@ -67,6 +68,25 @@ TEST(ConformalScale, TorusParallelsScaleAsTheInverseDistanceFromTheAxis) {
     unit += mesh.calc_face_area(fh) / scale[fh.idx()];
   }
   EXPECT_NEAR(unit / area, 1.0, 1e-9);
+}
+
+// On the torus the normalized log scale spans about [−0.23, 0.46] (lattice units from 0.63 to
+// 1.26 times h): inside the default bounds [−0.5, 1], so nothing is clamped; bounds of 0.1 on
+// growth and 0.3 on shrinking clamp each side to its own bound.
+TEST(ConformalScale, ClampsTheGrowthAndTheShrinkingOfLatticeUnitsSeparately) {
+  const TriMesh mesh = makeTorus(3.0, 1.0, 120, 40);
+  const RosyField field = parallelsField(mesh);
+  const std::vector<double> free = conformalFaceScale(mesh, field, 5.0, 5.0);
+  EXPECT_EQ(conformalFaceScale(mesh, field), free) << "the defaults should not clamp the torus";
+  const auto [freeMin, freeMax] = std::minmax_element(free.begin(), free.end());
+  ASSERT_LT(*freeMin, std::exp(-0.2));
+  ASSERT_GT(*freeMax, std::exp(0.4));
+  const std::vector<double> clamped = conformalFaceScale(mesh, field, 0.3, 0.1);
+  const auto [lowest, highest] = std::minmax_element(clamped.begin(), clamped.end());
+  EXPECT_DOUBLE_EQ(*lowest, std::exp(-0.1)) << "lattice units grow at most e^0.1";
+  EXPECT_DOUBLE_EQ(*highest, std::exp(0.3)) << "and shrink at most e^0.3";
+  for (std::size_t f = 0; f < free.size(); ++f)
+    if (free[f] > std::exp(-0.1) && free[f] < std::exp(0.3)) EXPECT_DOUBLE_EQ(clamped[f], free[f]);
 }
 
 // With the scale, the parallels field is (nearly) a gradient field: the local step's energy
