@@ -21,6 +21,24 @@ namespace {
 using test::expectQualityFloors;
 using test::quarterOf;
 
+// The self-intersection check of the floors: a triangle pierced by another one's edges, and the
+// same pair apart.
+TEST(QualityFloorCheck, CountsEdgesThatPierceATriangle) {
+  const auto pair = [](double lift) {
+    TriMesh mesh;
+    const auto a = mesh.add_vertex({-1, -1, 0}), b = mesh.add_vertex({2, -1, 0}),
+               c = mesh.add_vertex({-1, 2, 0});
+    const auto d = mesh.add_vertex({0.2, 0.2, lift - 0.5}), e = mesh.add_vertex({0.3, 0.2, lift + 0.5}),
+               f = mesh.add_vertex({0.2, 0.3, lift + 0.5});
+    mesh.add_face(a, b, c);
+    mesh.add_face(d, e, f);
+    return mesh;
+  };
+  EXPECT_EQ(test::edgeTriangleCrossings(pair(0.0)), 2) << "d-e and d-f pierce the first triangle";
+  EXPECT_EQ(test::edgeTriangleCrossings(pair(1.0)), 0);
+  EXPECT_EQ(test::edgeTriangleCrossings(makeIcosphere(3)), 0);
+}
+
 TEST(PipelineRemesh, IcosphereMeetsTheQualityFloors) {
   const PolygonSoup sphere = toPolygonSoup(makeIcosphere(4));
   const RemeshResult result = remesh(sphere, quarterOf(sphere.vertexCount()));
