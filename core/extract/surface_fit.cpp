@@ -204,7 +204,7 @@ class SurfaceFit {
   long long balance() {
     // Only fans that deviate by at least kBalanceShareOfLargest of the largest fan deviation
     // (and kBalanceMinDeviation local edge lengths) are balanced: the two-sided distance is a
-    // maximum, and a line search costs about a thousand closest-point queries.
+    // maximum, and a line search costs a few hundred closest-point queries.
     assignInputPoints();
     std::vector<double> deviation(remesh_.n_vertices(), 0.0);
     double largest = 0.0;
@@ -218,7 +218,7 @@ class SurfaceFit {
     std::vector<char> visit(remesh_.n_vertices(), 1);
     for (int pass = 0; pass < kBalancePasses; ++pass) {
       if (pass > 0) assignInputPoints();
-      std::vector<char> next(remesh_.n_vertices(), 0);
+      std::vector<char> nextVisit(remesh_.n_vertices(), 0);
       for (const auto v : remesh_.vertices()) {
         if (!visit[v.idx()] || remesh_.is_boundary(v) || remesh_.is_isolated(v)) continue;
         const Vec3 current = position(v);
@@ -241,10 +241,10 @@ class SurfaceFit {
           continue;
         remesh_.set_point(v, toOpenMesh(candidate));
         moved_[v.idx()] = 1;
-        for (const auto w : v.vertices()) next[w.idx()] = 1;
+        for (const auto w : v.vertices()) nextVisit[w.idx()] = 1;
         ++moves;
       }
-      visit.swap(next);
+      visit.swap(nextVisit);
     }
     return moves;
   }
