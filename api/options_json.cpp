@@ -35,11 +35,11 @@ RemeshOptions remeshOptionsFromJson(const nlohmann::json& options) {
     throw Error(ErrorCode::InvalidOption, "options must be a JSON object, not " + options.dump());
   RemeshOptions result;
   for (const auto& [name, value] : options.items()) {
-    if (value.is_null() && name != "rosy" && name != "sizing") {
+    if (value.is_null() && name != "rosy" && name != "sizing" && name != "placement") {
       if (name != "edge_length" && name != "vertices" && name != "d_sing")
         throw Error(ErrorCode::InvalidOption,
                     "unknown option '" + name +
-                        "'; the options are edge_length, vertices, rosy, sizing, d_sing");
+                        "'; the options are edge_length, vertices, rosy, sizing, placement, d_sing");
       continue;  // null: the default
     }
     if (name == "edge_length") {
@@ -55,12 +55,19 @@ RemeshOptions remeshOptionsFromJson(const nlohmann::json& options) {
         result.sizing = Sizing::Curvature;
       else
         fail(name, "\"uniform\" or \"curvature\"", value);
+    } else if (name == "placement") {
+      if (value == "balanced")
+        result.placement = VertexPlacement::Balanced;
+      else if (value == "on_surface")
+        result.placement = VertexPlacement::OnSurface;
+      else
+        fail(name, "\"balanced\" or \"on_surface\"", value);
     } else if (name == "d_sing") {
       result.dSing = number(name, value);
     } else {
       throw Error(ErrorCode::InvalidOption,
                   "unknown option '" + name +
-                      "'; the options are edge_length, vertices, rosy, sizing, d_sing");
+                      "'; the options are edge_length, vertices, rosy, sizing, placement, d_sing");
     }
   }
   return result;
@@ -74,6 +81,8 @@ nlohmann::json toJson(const RemeshOptions& options) {
           {"vertices", optional(options.targetVertices)},
           {"rosy", options.rosy},
           {"sizing", options.sizing == Sizing::Uniform ? "uniform" : "curvature"},
+          {"placement",
+           options.placement == VertexPlacement::Balanced ? "balanced" : "on_surface"},
           {"d_sing", optional(options.dSing)}};
 }
 

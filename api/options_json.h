@@ -3,7 +3,8 @@
 // POST /v1/jobs, and the normalized options stored with a job.
 //
 //   {"edge_length": number > 0 | null, "vertices": integer > 0 | null, "rosy": 4 | 6,
-//    "sizing": "uniform" | "curvature", "d_sing": number >= 0 | null}
+//    "sizing": "uniform" | "curvature", "placement": "balanced" | "on_surface",
+//    "d_sing": number >= 0 | null}
 //
 // null (or absent) means the pipeline's default (RemeshOptions documents them).
 

@@ -32,7 +32,8 @@ constexpr std::size_t kMaxOptionsBytes = 64 << 10;
 /// Largest body accepted on routes that take none.
 constexpr std::size_t kMaxOtherBody = 64 << 10;
 
-constexpr const char* kOptionParameters[] = {"edge_length", "vertices", "rosy", "sizing", "d_sing"};
+constexpr const char* kOptionParameters[] = {"edge_length", "vertices", "rosy", "sizing", "placement",
+                                             "d_sing"};
 constexpr const char* kResultFormats[] = {"obj", "ply", "off", "stl", "glb"};
 constexpr const char* kResultMeshes[] = {"triangles", "hexagons", "textured"};
 
@@ -137,7 +138,7 @@ nlohmann::json queryOptions(const Request& req) {
         std::end(kOptionParameters))
       throw ApiError(ProblemKind::InvalidOption,
                      "unknown query parameter '" + name +
-                         "'; the options are edge_length, vertices, rosy, sizing, d_sing",
+                         "'; the options are edge_length, vertices, rosy, sizing, placement, d_sing",
                      {{"option", name}});
     if (options.contains(name))
       throw ApiError(ProblemKind::InvalidOption, "query parameter '" + name + "' is given twice",

@@ -1,6 +1,7 @@
 // `hexcover remesh IN -o OUT [--edge-length h | --vertices K] [--rosy 6|4]
-//  [--sizing uniform|curvature] [--hex OUT_HEX] [--textured OUT_OBJ] [--metrics METRICS.json]
-//  [--quiet]`: the whole pipeline (core/pipeline) on one file.
+//  [--sizing uniform|curvature] [--placement balanced|on_surface] [--hex OUT_HEX]
+//  [--textured OUT_OBJ] [--metrics METRICS.json] [--quiet]`: the whole pipeline (core/pipeline)
+//  on one file.
 
 #include <unistd.h>
 
@@ -35,6 +36,14 @@ RemeshOptions parseOptions(const Arguments& args) {
       options.sizing = Sizing::Curvature;
     else
       throw UsageError("--sizing must be uniform or curvature, got '" + *sizing + "'");
+  }
+  if (const auto placement = args.value("--placement")) {
+    if (*placement == "balanced")
+      options.placement = VertexPlacement::Balanced;
+    else if (*placement == "on_surface")
+      options.placement = VertexPlacement::OnSurface;
+    else
+      throw UsageError("--placement must be balanced or on_surface, got '" + *placement + "'");
   }
   return options;
 }
@@ -90,8 +99,8 @@ nlohmann::json metricsDocument(const RemeshResult& result) {
 
 int runRemesh(int argc, char** argv) {
   const Arguments args(argc, argv, 2,
-                       {"-o", "--edge-length", "--vertices", "--rosy", "--sizing", "--hex",
-                        "--textured", "--metrics"},
+                       {"-o", "--edge-length", "--vertices", "--rosy", "--sizing", "--placement",
+                        "--hex", "--textured", "--metrics"},
                        {"--quiet"});
   const std::string& inputPath = args.positional(0, "IN");
   args.expectPositionalCount(1);

@@ -2,7 +2,7 @@
 # Client of the hexcover remeshing service (HTTP API v1) with curl and jq.
 #
 #   hexcover.sh [--url URL] remesh MESH [--vertices N | --edge-length L] [--rosy 4|6]
-#               [--sizing uniform|curvature] [--d-sing D] [--out DIR] [--formats obj,ply,...]
+#               [--sizing uniform|curvature] [--placement balanced|on_surface] [--d-sing D] [--out DIR] [--formats obj,ply,...]
 #               [--meshes triangles,hexagons,textured] [--timeout SECONDS]
 #       upload MESH, follow the job on stderr, download the results to DIR, print the metrics
 #   hexcover.sh [--url URL] status|metrics|cancel JOB_ID
@@ -55,6 +55,7 @@ remesh() {
       --edge-length) query+=("edge_length=$2"); shift 2 ;;
       --rosy) query+=("rosy=$2"); shift 2 ;;
       --sizing) query+=("sizing=$2"); shift 2 ;;
+      --placement) query+=("placement=$2"); shift 2 ;;
       --d-sing) query+=("d_sing=$2"); shift 2 ;;
       --out) out=$2; shift 2 ;;
       --formats) formats=$2; shift 2 ;;

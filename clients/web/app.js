@@ -62,7 +62,7 @@ dropZone.addEventListener('drop', (event) => {
 // ---- options ---------------------------------------------------------------------------------
 
 function readOptions() {
-  const options = { rosy: $('rosy').value, sizing: $('sizing').value };
+  const options = { rosy: $('rosy').value, sizing: $('sizing').value, placement: $('placement').value };
   const target = document.querySelector('input[name=target]:checked').value;
   const value = $('target-value').value.trim();
   if (value !== '') options[target] = value;

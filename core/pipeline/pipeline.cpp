@@ -131,7 +131,9 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
     context.throwIfCanceled();
 
     start = Clock::now();
-    result.remesh = extractRemesh(mesh, param, {}, context);
+    ExtractOptions extractOptions;
+    extractOptions.balanceDeviation = options.placement == VertexPlacement::Balanced;
+    result.remesh = extractRemesh(mesh, param, extractOptions, context);
     addTiming(result.timings, "extraction", secondsSince(start));
     result.edgeLength = h;
     result.sizeIterations = run;

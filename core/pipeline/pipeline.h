@@ -18,6 +18,12 @@ namespace hexcover {
 
 enum class Sizing { Uniform, Curvature };
 
+/// Where the remesh's vertices go after extraction (core/extract's surface fit): Balanced moves
+/// the vertices where the remesh deviates most off the input along their normal, so that the
+/// remesh straddles the input (about half the two-sided distance on curved patches); OnSurface
+/// keeps every vertex on the input (for attribute transfer, or a remesh that must interpolate).
+enum class VertexPlacement { Balanced, OnSurface };
+
 struct RemeshOptions {
   /// Target edge length in model units. At most one of edgeLength and targetVertices is set;
   /// with neither, the target is a quarter of the input's vertex count.
@@ -27,6 +33,7 @@ struct RemeshOptions {
   /// 6: triangles (Eisenstein lattice); 4: quads (Gauss lattice).
   int rosy = 6;
   Sizing sizing = Sizing::Uniform;
+  VertexPlacement placement = VertexPlacement::Balanced;
   /// Singularity clustering distance d_sing in model units; by default
   /// kSingularityDistanceInEdges × the edge length (paper 5.2, see pipeline.cpp).
   std::optional<double> dSing;

@@ -23,6 +23,7 @@ TEST(OptionsJson, EmptyObjectGivesThePipelineDefaults) {
   const RemeshOptions defaults;
   EXPECT_EQ(options.rosy, defaults.rosy);
   EXPECT_EQ(options.sizing, defaults.sizing);
+  EXPECT_EQ(options.placement, defaults.placement);
   EXPECT_FALSE(options.edgeLength);
   EXPECT_FALSE(options.targetVertices);
   EXPECT_FALSE(options.dSing);
@@ -39,6 +40,10 @@ TEST(OptionsJson, ValuesAreReadAndNormalizedFormRoundTrips) {
   EXPECT_TRUE(json.at("vertices").is_null());
   EXPECT_EQ(toJson(remeshOptionsFromJson(json)), json);
   EXPECT_EQ(*remeshOptionsFromJson({{"vertices", 2000.0}}).targetVertices, 2000);
+  EXPECT_EQ(json.at("placement"), "balanced");
+  const auto onSurface = remeshOptionsFromJson({{"placement", "on_surface"}});
+  EXPECT_EQ(onSurface.placement, VertexPlacement::OnSurface);
+  EXPECT_EQ(toJson(onSurface).at("placement"), "on_surface");
 }
 
 TEST(OptionsJson, BadNamesAndTypesNameTheOption) {
@@ -46,6 +51,7 @@ TEST(OptionsJson, BadNamesAndTypesNameTheOption) {
   EXPECT_NE(errorOf({{"rosy", "six"}}).find("'rosy'"), std::string::npos);
   EXPECT_NE(errorOf({{"vertices", 10.5}}).find("'vertices'"), std::string::npos);
   EXPECT_NE(errorOf({{"sizing", "adaptive"}}).find("'sizing'"), std::string::npos);
+  EXPECT_NE(errorOf({{"placement", "exact"}}).find("'placement'"), std::string::npos);
   EXPECT_NE(errorOf({{"edge_length", "1mm"}}).find("'edge_length'"), std::string::npos);
   EXPECT_NE(errorOf(nlohmann::json::array()).find("object"), std::string::npos);
 }

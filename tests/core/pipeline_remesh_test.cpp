@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/geometry/closest_point.h"
 #include "core/mesh/io.h"
 #include "core/mesh/primitives.h"
 #include "core/pipeline/pipeline.h"
@@ -86,6 +87,32 @@ TEST(PipelineRemesh, TubeKeepsItsTwoBoundaryLoopsOnTheInputBoundary) {
     EXPECT_TRUE(std::abs(p[2]) < 1e-9 || std::abs(p[2] - 2.0) < 1e-9) << "z = " << p[2];
     EXPECT_NEAR(std::hypot(p[0], p[1]), 0.5, 0.5 * (1 - std::cos(M_PI / 64)) + 1e-9);
   }
+}
+
+// Vertex placement: on_surface keeps every vertex on the input; balanced moves some off it and
+// comes closer to the input (a coarse remesh of a torus, whose triangles cut into it).
+TEST(PipelineRemesh, PlacesVerticesOnTheInputOrBalancedAboutIt) {
+  const TriMesh torus = makeTorus(1.0, 0.4, 160, 64);
+  const ClosestPointQuery onInput(torus);
+  RemeshOptions options;
+  options.targetVertices = 400;
+  options.placement = VertexPlacement::OnSurface;
+  const RemeshResult onSurface = remesh(toPolygonSoup(torus), options);
+  double largestOff = 0.0;
+  for (const auto v : onSurface.remesh.triangles.vertices())
+    largestOff = std::max(largestOff, onInput.closest(toEigen(onSurface.remesh.triangles.point(v))).distance);
+  EXPECT_LT(largestOff, 1e-9);
+  EXPECT_EQ(onSurface.remesh.report.balancedVertices, 0);
+
+  options.placement = VertexPlacement::Balanced;
+  const RemeshResult balanced = remesh(toPolygonSoup(torus), options);
+  EXPECT_GT(balanced.remesh.report.balancedVertices, 0);
+  largestOff = 0.0;
+  for (const auto v : balanced.remesh.triangles.vertices())
+    largestOff = std::max(largestOff, onInput.closest(toEigen(balanced.remesh.triangles.point(v))).distance);
+  EXPECT_GT(largestOff, 1e-4);
+  EXPECT_LT(balanced.metrics.distance->hausdorffPct, 0.8 * onSurface.metrics.distance->hausdorffPct);
+  expectQualityFloors(balanced, "balanced torus");
 }
 
 TEST(PipelineRemesh, KeepsAComponentWhoseRemeshWouldChangeItsTopology) {
