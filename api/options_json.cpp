@@ -28,6 +28,15 @@ long long integer(const std::string& name, const nlohmann::json& value) {
   fail(name, "an integer", value);
 }
 
+/// The value of an enumerated option given as one of its words.
+template <typename E, std::size_t K>
+E enumerated(const std::string& name, const nlohmann::json& value,
+             const std::array<OptionWord<E>, K>& words) {
+  if (value.is_string())
+    if (const auto known = valueOfWord(words, value.get<std::string>())) return *known;
+  fail(name, wordList(words, "\""), value);
+}
+
 }  // namespace
 
 RemeshOptions remeshOptionsFromJson(const nlohmann::json& options) {
@@ -35,40 +44,23 @@ RemeshOptions remeshOptionsFromJson(const nlohmann::json& options) {
     throw Error(ErrorCode::InvalidOption, "options must be a JSON object, not " + options.dump());
   RemeshOptions result;
   for (const auto& [name, value] : options.items()) {
-    if (value.is_null() && name != "rosy" && name != "sizing" && name != "placement") {
-      if (name != "edge_length" && name != "vertices" && name != "d_sing")
-        throw Error(ErrorCode::InvalidOption,
-                    "unknown option '" + name +
-                        "'; the options are edge_length, vertices, rosy, sizing, placement, d_sing");
-      continue;  // null: the default
-    }
-    if (name == "edge_length") {
+    const bool nullable = name == "edge_length" || name == "vertices" || name == "d_sing";
+    if (value.is_null() && nullable) continue;  // null: the default
+    if (name == "edge_length")
       result.edgeLength = number(name, value);
-    } else if (name == "vertices") {
+    else if (name == "vertices")
       result.targetVertices = integer(name, value);
-    } else if (name == "rosy") {
+    else if (name == "rosy")
       result.rosy = int(integer(name, value));
-    } else if (name == "sizing") {
-      if (value == "uniform")
-        result.sizing = Sizing::Uniform;
-      else if (value == "curvature")
-        result.sizing = Sizing::Curvature;
-      else
-        fail(name, "\"uniform\" or \"curvature\"", value);
-    } else if (name == "placement") {
-      if (value == "balanced")
-        result.placement = VertexPlacement::Balanced;
-      else if (value == "on_surface")
-        result.placement = VertexPlacement::OnSurface;
-      else
-        fail(name, "\"balanced\" or \"on_surface\"", value);
-    } else if (name == "d_sing") {
+    else if (name == "sizing")
+      result.sizing = enumerated(name, value, kSizingWords);
+    else if (name == "placement")
+      result.placement = enumerated(name, value, kPlacementWords);
+    else if (name == "d_sing")
       result.dSing = number(name, value);
-    } else {
+    else
       throw Error(ErrorCode::InvalidOption,
-                  "unknown option '" + name +
-                      "'; the options are edge_length, vertices, rosy, sizing, placement, d_sing");
-    }
+                  "unknown option '" + name + "'; the options are " + optionNameList());
   }
   return result;
 }
@@ -80,9 +72,8 @@ nlohmann::json toJson(const RemeshOptions& options) {
   return {{"edge_length", optional(options.edgeLength)},
           {"vertices", optional(options.targetVertices)},
           {"rosy", options.rosy},
-          {"sizing", options.sizing == Sizing::Uniform ? "uniform" : "curvature"},
-          {"placement",
-           options.placement == VertexPlacement::Balanced ? "balanced" : "on_surface"},
+          {"sizing", wordOf(kSizingWords, options.sizing)},
+          {"placement", wordOf(kPlacementWords, options.placement)},
           {"d_sing", optional(options.dSing)}};
 }
 

@@ -10,6 +10,7 @@
 #include <regex>
 
 #include "api/job_json.h"
+#include "api/option_names.h"
 #include "api/problem.h"
 #include "server/openapi_document.h"
 #include "server/upload.h"
@@ -32,8 +33,6 @@ constexpr std::size_t kMaxOptionsBytes = 64 << 10;
 /// Largest body accepted on routes that take none.
 constexpr std::size_t kMaxOtherBody = 64 << 10;
 
-constexpr const char* kOptionParameters[] = {"edge_length", "vertices", "rosy", "sizing", "placement",
-                                             "d_sing"};
 constexpr const char* kResultFormats[] = {"obj", "ply", "off", "stl", "glb"};
 constexpr const char* kResultMeshes[] = {"triangles", "hexagons", "textured"};
 
@@ -134,11 +133,11 @@ nlohmann::json queryValue(const std::string& text) {
 nlohmann::json queryOptions(const Request& req) {
   nlohmann::json options = nlohmann::json::object();
   for (const auto& [name, value] : req.params) {
-    if (std::find(std::begin(kOptionParameters), std::end(kOptionParameters), name) ==
-        std::end(kOptionParameters))
+    if (std::find(api::kOptionNames.begin(), api::kOptionNames.end(), name) ==
+        api::kOptionNames.end())
       throw ApiError(ProblemKind::InvalidOption,
                      "unknown query parameter '" + name +
-                         "'; the options are edge_length, vertices, rosy, sizing, placement, d_sing",
+                         "'; the options are " + api::optionNameList(),
                      {{"option", name}});
     if (options.contains(name))
       throw ApiError(ProblemKind::InvalidOption, "query parameter '" + name + "' is given twice",

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "api/metrics_json.h"
+#include "api/options_json.h"
 #include "clients/cli/arguments.h"
 #include "clients/cli/commands.h"
 #include "core/mesh/io.h"
@@ -29,22 +30,17 @@ RemeshOptions parseOptions(const Arguments& args) {
     if (*rosy != 6 && *rosy != 4) throw UsageError("--rosy must be 6 or 4");
     options.rosy = static_cast<int>(*rosy);
   }
-  if (const auto sizing = args.value("--sizing")) {
-    if (*sizing == "uniform")
-      options.sizing = Sizing::Uniform;
-    else if (*sizing == "curvature")
-      options.sizing = Sizing::Curvature;
-    else
-      throw UsageError("--sizing must be uniform or curvature, got '" + *sizing + "'");
-  }
-  if (const auto placement = args.value("--placement")) {
-    if (*placement == "balanced")
-      options.placement = VertexPlacement::Balanced;
-    else if (*placement == "on_surface")
-      options.placement = VertexPlacement::OnSurface;
-    else
-      throw UsageError("--placement must be balanced or on_surface, got '" + *placement + "'");
-  }
+  // Enumerated options take the words of the API (api/options_json.h).
+  const auto enumerated = [&](const std::string& flag, const auto& words, auto& target) {
+    const auto word = args.value(flag);
+    if (!word) return;
+    const auto value = api::valueOfWord(words, *word);
+    if (!value)
+      throw UsageError(flag + " must be " + api::wordList(words) + ", got '" + *word + "'");
+    target = *value;
+  };
+  enumerated("--sizing", api::kSizingWords, options.sizing);
+  enumerated("--placement", api::kPlacementWords, options.placement);
   return options;
 }
 

@@ -214,6 +214,7 @@ class SurfaceFit {
       largest = std::max(largest, deviation[v.idx()]);
     }
     const double threshold = kBalanceShareOfLargest * largest;
+    const double snapWindowBadness = angleBadness({kSnapMinAngle, kSnapMaxAngle});
     long long moves = 0;
     std::vector<char> visit(remesh_.n_vertices(), 1);
     for (int pass = 0; pass < kBalancePasses; ++pass) {
@@ -227,17 +228,13 @@ class SurfaceFit {
         if (pass > 0) deviation[v.idx()] = fanDeviation(v, current);
         if (deviation[v.idx()] < std::max(threshold, kBalanceMinDeviation * length)) continue;
         const double before = fanDeviation(v, current, kBalanceDivisions);
-        Vec3 normal = Vec3::Zero();
-        for (const auto f : v.faces())
-          normal += triangleNormal(facePositions(remesh_, f, OpenMesh::VertexHandle(), current));
-        if (!(normal.norm() > 0.0)) continue;
-        normal.normalize();
+        const Vec3 normal = fanNormal(v);
+        if (normal.isZero()) continue;
         const auto [t, after] = searchLine(v, current, normal, kBalanceReach * length);
         const Vec3 candidate = current + t * normal;
         if (!(after < before) ||
             fanAngleBadness(remesh_, v, candidate) >
-                std::max(fanAngleBadness(remesh_, v, current),
-                         angleBadness({kSnapMinAngle, kSnapMaxAngle})))
+                std::max(fanAngleBadness(remesh_, v, current), snapWindowBadness))
           continue;
         remesh_.set_point(v, toOpenMesh(candidate));
         moved_[v.idx()] = 1;
@@ -265,6 +262,14 @@ class SurfaceFit {
   std::vector<std::vector<int>> facePoints_;
 
   Vec3 position(OpenMesh::VertexHandle v) const { return toEigen(remesh_.point(v)); }
+
+  /// Unit mean of the normals of v's triangles, or zero when they cancel.
+  Vec3 fanNormal(SVH v) const {
+    Vec3 normal = Vec3::Zero();
+    for (const auto f : v.faces())
+      normal += triangleNormal(facePositions(remesh_, f, OpenMesh::VertexHandle(), Vec3::Zero()));
+    return normal.norm() > 0.0 ? Vec3(normal.normalized()) : Vec3::Zero();
+  }
 
   /// Golden-section search of the offset t in [−reach, reach] that minimizes the deviation of v's
   /// fan with v at from + t·direction; returns t and that deviation.
@@ -301,17 +306,15 @@ class SurfaceFit {
   /// kTrialSteps fractions of its mean edge length.
   std::vector<Vec3> trialPositions(SVH v) const {
     const Vec3 current = position(v);
-    Vec3 centroid = Vec3::Zero(), normal = Vec3::Zero();
+    Vec3 centroid = Vec3::Zero();
     double count = 0.0;
     for (const auto w : v.vertices()) centroid += position(w), count += 1.0;
     centroid /= count;
-    for (const auto f : v.faces())
-      normal += triangleNormal(facePositions(remesh_, f, OpenMesh::VertexHandle(), current));
     std::vector<Vec3> trials;
     for (const double t : {1.0, 0.75, 0.5, 0.25})
       trials.push_back(current + t * (centroid - current));
-    if (!(normal.norm() > 0.0)) return trials;
-    normal.normalize();
+    const Vec3 normal = fanNormal(v);
+    if (normal.isZero()) return trials;
     const Vec3 u = normal.unitOrthogonal(), w = normal.cross(u);
     const double length = vertexEdgeLength(v);
     for (int k = 0; k < kTrialDirections; ++k) {

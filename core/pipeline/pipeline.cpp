@@ -117,6 +117,8 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   constexpr int kMaxRuns = 4;
   constexpr double kTolerance = 0.08;
   Parameterization param;
+  ExtractOptions extractOptions;
+  extractOptions.balanceDeviation = options.placement == VertexPlacement::Balanced;
   for (int run = 1;; ++run) {
     auto start = Clock::now();
     ParamOptions paramOptions;
@@ -131,8 +133,6 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
     context.throwIfCanceled();
 
     start = Clock::now();
-    ExtractOptions extractOptions;
-    extractOptions.balanceDeviation = options.placement == VertexPlacement::Balanced;
     result.remesh = extractRemesh(mesh, param, extractOptions, context);
     addTiming(result.timings, "extraction", secondsSince(start));
     result.edgeLength = h;

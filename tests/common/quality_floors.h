@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 #include <string>
@@ -77,14 +78,12 @@ inline int edgeTriangleCrossings(const TriMesh& mesh) {
       for (long long j = a[1]; j <= b[1]; ++j)
         for (long long k = a[2]; k <= b[2]; ++k) visit(Key{i, j, k});
   };
-  const auto box = [&](const auto& range, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
-    lo.setConstant(INFINITY), hi.setConstant(-INFINITY);
-    for (const auto v : range) lo = lo.cwiseMin(toEigen(mesh.point(v))), hi = hi.cwiseMax(toEigen(mesh.point(v)));
-  };
   std::map<Key, std::vector<int>> grid;
   for (const auto f : mesh.faces()) {
-    Eigen::Vector3d lo, hi;
-    box(f.vertices(), lo, hi);
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector3d hi = -lo;
+    for (const auto v : f.vertices())
+      lo = lo.cwiseMin(toEigen(mesh.point(v))), hi = hi.cwiseMax(toEigen(mesh.point(v)));
     forCells(lo, hi, [&](const Key& key) { grid[key].push_back(f.idx()); });
   }
   int crossings = 0;

@@ -185,7 +185,8 @@ TEST(SurfaceFit, MovesPartWayToARidgeWhenAFullSnapWouldOpenAnAngleTooFar) {
   const std::vector<Vec3> ridgePoint{Vec3(0.0, kRidge, 0.0)};
   const double before = largestDistance(ridgePoint, fan);
 
-  const SurfaceFitCounts counts = fitRemeshToSurface(input, ClosestPointQuery(input), fan, 0.1, false);
+  const SurfaceFitCounts counts =
+      fitRemeshToSurface(input, ClosestPointQuery(input), fan, 0.1, /*balanceDeviation=*/false);
   EXPECT_GE(counts.snapped, 1);  // part-way moves may go on in later rounds
   const auto moved = fan.point(centre);
   EXPECT_GT(moved[1], 0.3);
@@ -277,8 +278,9 @@ TEST(SurfaceFit, OnlyRelaxesAMeshThatMatchesTheInput) {
 
 TEST(SurfaceFit, BalancesACoarseSphereAboutTheInputSurface) {
   // An icosphere of 42 vertices on a finely tessellated unit sphere: its triangles lie inside
-  // the sphere by up to their sagitta (0.1 edge lengths). Lifting the vertices by about half of it balances the two
-  // sides, so the two-sided distance drops by about half; angles barely change.
+  // the sphere by up to their sagitta (0.1 edge lengths). Lifting the vertices by about half of
+  // it balances the two sides, so the two-sided distance drops by about half; angles barely
+  // change.
   const TriMesh input = makeIcosphere(5);
   const ClosestPointQuery onInput(input);
   TriMesh remesh = makeIcosphere(1);

@@ -29,7 +29,8 @@ TEST(QualityFloorCheck, CountsEdgesThatPierceATriangle) {
     TriMesh mesh;
     const auto a = mesh.add_vertex({-1, -1, 0}), b = mesh.add_vertex({2, -1, 0}),
                c = mesh.add_vertex({-1, 2, 0});
-    const auto d = mesh.add_vertex({0.2, 0.2, lift - 0.5}), e = mesh.add_vertex({0.3, 0.2, lift + 0.5}),
+    const auto d = mesh.add_vertex({0.2, 0.2, lift - 0.5}),
+               e = mesh.add_vertex({0.3, 0.2, lift + 0.5}),
                f = mesh.add_vertex({0.2, 0.3, lift + 0.5});
     mesh.add_face(a, b, c);
     mesh.add_face(d, e, f);
@@ -94,24 +95,26 @@ TEST(PipelineRemesh, TubeKeepsItsTwoBoundaryLoopsOnTheInputBoundary) {
 TEST(PipelineRemesh, PlacesVerticesOnTheInputOrBalancedAboutIt) {
   const TriMesh torus = makeTorus(1.0, 0.4, 160, 64);
   const ClosestPointQuery onInput(torus);
+  const auto largestDistanceFromInput = [&](const RemeshResult& result) {
+    double largest = 0.0;
+    for (const auto v : result.remesh.triangles.vertices())
+      largest = std::max(largest,
+                         onInput.closest(toEigen(result.remesh.triangles.point(v))).distance);
+    return largest;
+  };
   RemeshOptions options;
   options.targetVertices = 400;
   options.placement = VertexPlacement::OnSurface;
   const RemeshResult onSurface = remesh(toPolygonSoup(torus), options);
-  double largestOff = 0.0;
-  for (const auto v : onSurface.remesh.triangles.vertices())
-    largestOff = std::max(largestOff, onInput.closest(toEigen(onSurface.remesh.triangles.point(v))).distance);
-  EXPECT_LT(largestOff, 1e-9);
+  EXPECT_LT(largestDistanceFromInput(onSurface), 1e-9);
   EXPECT_EQ(onSurface.remesh.report.balancedVertices, 0);
 
   options.placement = VertexPlacement::Balanced;
   const RemeshResult balanced = remesh(toPolygonSoup(torus), options);
   EXPECT_GT(balanced.remesh.report.balancedVertices, 0);
-  largestOff = 0.0;
-  for (const auto v : balanced.remesh.triangles.vertices())
-    largestOff = std::max(largestOff, onInput.closest(toEigen(balanced.remesh.triangles.point(v))).distance);
-  EXPECT_GT(largestOff, 1e-4);
-  EXPECT_LT(balanced.metrics.distance->hausdorffPct, 0.8 * onSurface.metrics.distance->hausdorffPct);
+  EXPECT_GT(largestDistanceFromInput(balanced), 1e-4);
+  EXPECT_LT(balanced.metrics.distance->hausdorffPct,
+            0.8 * onSurface.metrics.distance->hausdorffPct);
   expectQualityFloors(balanced, "balanced torus");
 }
 
