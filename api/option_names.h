@@ -10,8 +10,8 @@ namespace hexcover::api {
 
 /// The option names (also the query parameters of POST /v1/jobs), in the order documents list
 /// them.
-inline constexpr std::array<std::string_view, 6> kOptionNames{
-    "edge_length", "vertices", "rosy", "sizing", "placement", "d_sing"};
+inline constexpr std::array<std::string_view, 7> kOptionNames{
+    "edge_length", "vertices", "rosy", "sizing", "placement", "feature_angle", "d_sing"};
 
 /// "edge_length, vertices, …": the names for messages that list the options.
 inline std::string optionNameList() {

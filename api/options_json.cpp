@@ -56,6 +56,8 @@ RemeshOptions remeshOptionsFromJson(const nlohmann::json& options) {
       result.sizing = enumerated(name, value, kSizingWords);
     else if (name == "placement")
       result.placement = enumerated(name, value, kPlacementWords);
+    else if (name == "feature_angle")
+      result.featureAngle = number(name, value);
     else if (name == "d_sing")
       result.dSing = number(name, value);
     else
@@ -74,6 +76,7 @@ nlohmann::json toJson(const RemeshOptions& options) {
           {"rosy", options.rosy},
           {"sizing", wordOf(kSizingWords, options.sizing)},
           {"placement", wordOf(kPlacementWords, options.placement)},
+          {"feature_angle", options.featureAngle},
           {"d_sing", optional(options.dSing)}};
 }
 

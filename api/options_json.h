@@ -4,7 +4,7 @@
 //
 //   {"edge_length": number > 0 | null, "vertices": integer > 0 | null, "rosy": 4 | 6,
 //    "sizing": "uniform" | "curvature", "placement": "balanced" | "on_surface",
-//    "d_sing": number >= 0 | null}
+//    "feature_angle": number in [0, 180], "d_sing": number >= 0 | null}
 //
 // null (or absent) means the pipeline's default (RemeshOptions documents them).
 

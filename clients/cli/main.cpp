@@ -30,7 +30,7 @@ constexpr Subcommand kSubcommands[] = {
     {"metrics", "metrics RESULT [--reference INPUT]", runMetrics},
     {"remesh",
      "remesh IN -o OUT [--edge-length h | --vertices K] [--rosy 6|4] [--sizing uniform|curvature] "
-     "[--placement balanced|on_surface] [--hex OUT_HEX] [--textured OUT_OBJ] "
+     "[--placement balanced|on_surface] [--feature-angle DEG] [--hex OUT_HEX] [--textured OUT_OBJ] "
      "[--metrics METRICS.json] [--quiet]",
      runRemesh},
     {"field",
@@ -39,7 +39,8 @@ constexpr Subcommand kSubcommands[] = {
      runField},
     {"param",
      "param MESH -o TEXTURED.obj [--edge-length h | --vertices K] [--rosy 6|4] "
-     "[--sizing uniform|curvature] [--texture HEX.png] [--rounding direct|greedy] [--d-sing X]",
+     "[--sizing uniform|curvature] [--texture HEX.png] [--rounding direct|greedy] [--d-sing X] "
+     "[--feature-angle DEG]",
      runParam},
 };
 

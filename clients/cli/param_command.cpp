@@ -1,5 +1,6 @@
 // `hexcover param MESH -o TEXTURED.obj [--edge-length h | --vertices K] [--rosy 6|4]
-//  [--sizing uniform|curvature] [--texture HEX.png] [--rounding direct|greedy] [--d-sing X]`:
+//  [--sizing uniform|curvature] [--texture HEX.png] [--rounding direct|greedy] [--d-sing X]
+//  [--feature-angle DEG]`:
 // the seamless HexCover parameterization (paper section 4) of a mesh along its geometry-aware
 // field. Writes the mesh with per-corner texture coordinates vt = (u, v/√3) (one 1:√3 pattern
 // period per unit square), optionally the matching hexagonal pattern tile, and prints one JSON
@@ -26,7 +27,7 @@ namespace hexcover::cli {
 int runParam(int argc, char** argv) {
   const Arguments args(argc, argv, 2,
                        {"-o", "--edge-length", "--vertices", "--rosy", "--sizing", "--texture",
-                        "--rounding", "--d-sing"},
+                        "--rounding", "--d-sing", "--feature-angle"},
                        {});
   const std::string& path = args.positional(0, "MESH");
   args.expectPositionalCount(1);
@@ -54,6 +55,9 @@ int runParam(int argc, char** argv) {
       throw UsageError("--rounding must be direct or greedy, got '" + *rounding + "'");
     options.rounding = parseRoundingMethod(*rounding);
   }
+  const double featureAngle = args.number("--feature-angle").value_or(kDefaultFeatureAngle);
+  if (!(featureAngle >= 0.0 && featureAngle <= 180.0))
+    throw UsageError("--feature-angle must be between 0 and 180 degrees (0: creases not followed)");
   const auto dSing = args.number("--d-sing");
   if (dSing && !(*dSing > 0.0))
     throw UsageError("--d-sing must be a positive distance in mesh units");
@@ -77,6 +81,8 @@ int runParam(int argc, char** argv) {
   // lattice units would be rounded onto one lattice point (its Fig. 15). --d-sing 0.1·B gives the
   // paper's figures.
   fieldOptions.singularityDistance = dSing.value_or(kSingularityDistanceInEdges * uniform);
+  fieldOptions.sharpEdgeAngle = featureAngle;  // creases as in the remesh pipeline
+  fieldOptions.sharpLineLength = kCreaseLineInEdges * uniform;
   const RosyField field = computeRosyField(mesh, fieldOptions);
   if (sizing == "curvature") {
     // Scale with the largest absolute principal curvature (paper Fig. 13).

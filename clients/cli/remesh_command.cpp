@@ -1,5 +1,5 @@
 // `hexcover remesh IN -o OUT [--edge-length h | --vertices K] [--rosy 6|4]
-//  [--sizing uniform|curvature] [--placement balanced|on_surface] [--hex OUT_HEX]
+//  [--sizing uniform|curvature] [--placement balanced|on_surface] [--feature-angle DEG] [--hex OUT_HEX]
 //  [--textured OUT_OBJ] [--metrics METRICS.json] [--quiet]`: the whole pipeline (core/pipeline)
 //  on one file.
 
@@ -41,6 +41,11 @@ RemeshOptions parseOptions(const Arguments& args) {
   };
   enumerated("--sizing", api::kSizingWords, options.sizing);
   enumerated("--placement", api::kPlacementWords, options.placement);
+  if (const auto angle = args.number("--feature-angle")) {
+    if (!(*angle >= 0.0 && *angle <= 180.0))
+      throw UsageError("--feature-angle must be between 0 and 180 degrees (0: creases not followed)");
+    options.featureAngle = *angle;
+  }
   return options;
 }
 
@@ -96,7 +101,7 @@ nlohmann::json metricsDocument(const RemeshResult& result) {
 int runRemesh(int argc, char** argv) {
   const Arguments args(argc, argv, 2,
                        {"-o", "--edge-length", "--vertices", "--rosy", "--sizing", "--placement",
-                        "--hex", "--textured", "--metrics"},
+                        "--feature-angle", "--hex", "--textured", "--metrics"},
                        {"--quiet"});
   const std::string& inputPath = args.positional(0, "IN");
   args.expectPositionalCount(1);

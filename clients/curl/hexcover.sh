@@ -2,7 +2,8 @@
 # Client of the hexcover remeshing service (HTTP API v1) with curl and jq.
 #
 #   hexcover.sh [--url URL] remesh MESH [--vertices N | --edge-length L] [--rosy 4|6]
-#               [--sizing uniform|curvature] [--placement balanced|on_surface] [--d-sing D] [--out DIR] [--formats obj,ply,...]
+#               [--sizing uniform|curvature] [--placement balanced|on_surface] [--feature-angle DEG]
+#               [--d-sing D] [--out DIR] [--formats obj,ply,...]
 #               [--meshes triangles,hexagons,textured] [--timeout SECONDS]
 #       upload MESH, follow the job on stderr, download the results to DIR, print the metrics
 #   hexcover.sh [--url URL] status|metrics|cancel JOB_ID
@@ -18,7 +19,7 @@ body=$(mktemp)
 trap 'rm -f "$body"' EXIT
 
 usage() {
-  sed -n '3,16p' "$0" | sed 's/^# \{0,1\}//' >&2
+  sed -n '3,17p' "$0" | sed 's/^# \{0,1\}//' >&2
   exit 2
 }
 die() {
@@ -56,6 +57,7 @@ remesh() {
       --rosy) query+=("rosy=$2"); shift 2 ;;
       --sizing) query+=("sizing=$2"); shift 2 ;;
       --placement) query+=("placement=$2"); shift 2 ;;
+      --feature-angle) query+=("feature_angle=$2"); shift 2 ;;
       --d-sing) query+=("d_sing=$2"); shift 2 ;;
       --out) out=$2; shift 2 ;;
       --formats) formats=$2; shift 2 ;;

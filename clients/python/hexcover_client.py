@@ -34,7 +34,8 @@ import requests
 TERMINAL_STATES = frozenset({"succeeded", "failed", "canceled"})
 RESULT_MESHES = ("triangles", "hexagons", "textured")
 RESULT_FORMATS = ("obj", "ply", "off", "stl", "glb")
-OPTION_NAMES = ("edge_length", "vertices", "rosy", "sizing", "placement", "d_sing")
+OPTION_NAMES = ("edge_length", "vertices", "rosy", "sizing", "placement", "feature_angle",
+                "d_sing")
 
 
 class HexcoverError(Exception):
@@ -93,8 +94,8 @@ class Client:
 
     def submit(self, mesh_path: str, idempotency_key: Optional[str] = None, **options: Any) -> dict:
         """Uploads a mesh file (streamed as the raw body; the server detects the format from the
-        bytes) with options edge_length, vertices, rosy, sizing, placement, d_sing. Returns the
-        job document."""
+        bytes) with options edge_length, vertices, rosy, sizing, placement, feature_angle, d_sing.
+        Returns the job document."""
         unknown = set(options) - set(OPTION_NAMES)
         if unknown:
             raise ValueError(f"unknown option(s) {sorted(unknown)}; known: {OPTION_NAMES}")
@@ -179,7 +180,8 @@ def _available(job: dict, meshes: Iterable[str], formats: Iterable[str]) -> list
 
 def _remesh(client: Client, args: argparse.Namespace) -> int:
     options = {"edge_length": args.edge_length, "vertices": args.vertices, "rosy": args.rosy,
-               "sizing": args.sizing, "placement": args.placement, "d_sing": args.d_sing}
+               "sizing": args.sizing, "placement": args.placement,
+               "feature_angle": args.feature_angle, "d_sing": args.d_sing}
     job = client.submit(args.mesh, idempotency_key=args.idempotency_key, **options)
     print(f"submitted {args.mesh} as job {job['id']}", file=sys.stderr)
     last = [""]
@@ -220,6 +222,9 @@ def _parser() -> argparse.ArgumentParser:
     remesh.add_argument("--rosy", type=int, choices=(4, 6), help="6 triangles (default), 4 quads")
     remesh.add_argument("--sizing", choices=("uniform", "curvature"))
     remesh.add_argument("--placement", choices=("balanced", "on_surface"))
+    remesh.add_argument("--feature-angle", type=float,
+                        help="creases of at least this dihedral angle (degrees, default 60) are "
+                             "followed; 0 turns this off")
     remesh.add_argument("--d-sing", type=float, help="singularity clustering distance")
     remesh.add_argument("--out", help="folder for the downloaded results (none: only metrics)")
     remesh.add_argument("--meshes", default="triangles,hexagons,textured",

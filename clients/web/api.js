@@ -26,8 +26,8 @@ export const kTerminalStates = new Set(['succeeded', 'failed', 'canceled']);
 
 /**
  * POST /v1/jobs as multipart/form-data with the file in part `mesh`, options as query parameters
- * (edge_length, vertices, rosy, sizing, placement, d_sing). onProgress(sentBytes, totalBytes) follows the
- * upload. Resolves to the job document of the 202 answer.
+ * (edge_length, vertices, rosy, sizing, placement, feature_angle, d_sing).
+ * onProgress(sentBytes, totalBytes) follows the upload. Resolves to the job document of the 202 answer.
  */
 export function submitJob(file, options, onProgress) {
   const query = new URLSearchParams();

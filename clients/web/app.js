@@ -66,6 +66,8 @@ function readOptions() {
   const target = document.querySelector('input[name=target]:checked').value;
   const value = $('target-value').value.trim();
   if (value !== '') options[target] = value;
+  const featureAngle = $('feature-angle').value.trim();
+  if (featureAngle !== '') options.feature_angle = featureAngle;
   const dSing = $('d-sing').value.trim();
   if (dSing !== '') options.d_sing = dSing;
   return options;

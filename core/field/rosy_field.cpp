@@ -1,5 +1,6 @@
 #include "core/field/rosy_field.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -13,6 +14,7 @@
 #include "core/field/connection.h"
 #include "core/field/singularities.h"
 #include "core/field/smooth_solve.h"
+#include "core/geometry/sharp_edges.h"
 
 namespace hexcover {
 namespace {
@@ -94,6 +96,27 @@ void fixBoundaryFaces(const TriMesh& mesh, const field::FieldGeometry& geometry,
       const Eigen::Vector3d tangent = toEigen(mesh.point(to) - mesh.point(from));
       input.free[f] = false;
       input.value[f] = std::polar(1.0, n * geometry.frames.angleOf(f, tangent));
+    }
+  }
+}
+
+/// Faces with a sharp edge: one direction along it, a soft constraint of the given weight (a
+/// crease may turn faster than the field can follow); a face with several sharp edges follows its
+/// longest one.
+void addSharpEdgeConstraints(const TriMesh& mesh, const field::FieldGeometry& geometry, int n,
+                             const std::vector<bool>& sharp, double weight,
+                             field::SmoothSolveInput& input) {
+  std::vector<double> longest(mesh.n_faces(), -1.0);
+  for (const auto eh : mesh.edges()) {
+    if (!sharp[eh.idx()]) continue;
+    const double length = mesh.calc_edge_length(eh);
+    const Eigen::Vector3d tangent = toEigen(mesh.point(eh.v1()) - mesh.point(eh.v0()));
+    for (const auto h : {eh.h0(), eh.h1()}) {
+      const int f = h.face().idx();
+      if (length <= longest[f] || !input.free[f]) continue;
+      longest[f] = length;
+      input.softWeight[f] = weight;
+      input.softTarget[f] = std::polar(1.0, n * geometry.frames.angleOf(f, tangent));
     }
   }
 }
@@ -185,6 +208,12 @@ std::string FieldOptions::validate() const {
     message << "maxMergedIndex must be >= 0 (0: no limit), got " << maxMergedIndex;
   else if (boundaryTangentReach < 0 || boundaryTangentReach > 16)
     message << "boundaryTangentReach must be in [0, 16], got " << boundaryTangentReach;
+  else if (!(sharpEdgeAngle >= 0.0 && sharpEdgeAngle <= 180.0))
+    message << "sharpEdgeAngle must be in [0, 180] degrees (0: no creases), got " << sharpEdgeAngle;
+  else if (!(sharpLineLength >= 0.0) || !std::isfinite(sharpLineLength))
+    message << "sharpLineLength must be a finite length >= 0, got " << sharpLineLength;
+  else if (!(sharpEdgeWeight > 0.0) || !std::isfinite(sharpEdgeWeight))
+    message << "sharpEdgeWeight must be a finite number > 0, got " << sharpEdgeWeight;
   else if (threads < 1)
     message << "threads must be >= 1, got " << threads;
   else if (const auto problem = curvature.validate(); !problem.empty())
@@ -253,6 +282,7 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
   // 2. The connection corrected for K̄; the curvature and the constraints.
   step(0.1);
   field::SmoothSolveInput input;
+  std::vector<bool> sharp;  // #E, or empty without sharp-edge constraints
   std::vector<double> density;
   std::vector<double> initialCorrections;
   runBoth(
@@ -282,6 +312,10 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
             addCurvatureConstraints(mesh, geometry, curvature, options, in);
           if (options.boundary == BoundaryAlignment::Tangent)
             fixBoundaryFaces(mesh, geometry, n, options.boundaryTangentReach, in);
+          if (options.sharpEdgeAngle > 0.0) {
+            sharp = sharpEdges(mesh, options.sharpEdgeAngle, options.sharpLineLength);
+            addSharpEdgeConstraints(mesh, geometry, n, sharp, options.sharpEdgeWeight, in);
+          }
           return in;
         });
         // The Gauss curvature density K/A that weighs merged positions (section 3.3).
@@ -341,6 +375,7 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
     });
   }
   result.singularitiesInitial = initialCount;
+  if (std::find(sharp.begin(), sharp.end(), true) != sharp.end()) result.sharpEdges = sharp;
   result.singularityDistance = dSing;
   result.timings = std::move(timings);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

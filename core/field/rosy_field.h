@@ -65,6 +65,7 @@ struct RosyField {
   int singularitiesInitial = 0;                ///< count before clustering
   int eulerCharacteristic = 0;                 ///< χ = Σ over components = Σ I / N
   double singularityDistance = 0.0;            ///< d_sing used by clustering (mesh units)
+  std::vector<bool> sharpEdges;                ///< #E creases the field follows (empty: none)
   Timings timings;                             ///< per step: geometry, curvature, ...
   double seconds = 0.0;  ///< wall time (less than the sum of the steps: two run concurrently)
 };
@@ -97,6 +98,14 @@ struct FieldOptions {
   /// (kMergedIndexForLattice in core/param/hexcover.h): every merged singularity then has index
   /// ±1/N, whose fixed point is a lattice point, and pairs of +1/N may stay closer than d_sing.
   int maxMergedIndex = 0;
+  /// Creases: sharp edges (core/geometry/sharp_edges.h) of at least this dihedral angle in
+  /// degrees, on lines at least sharpLineLength long (mesh units), constrain the field of their
+  /// faces along the crease with weight sharpEdgeWeight (instead of a curvature constraint), and
+  /// are passed on in RosyField::sharpEdges for the parameterization to put lattice lines on.
+  /// 0: none (the paper has no creases; its future work).
+  double sharpEdgeAngle = 0.0;
+  double sharpLineLength = 0.0;
+  double sharpEdgeWeight = 1.0;
   BoundaryAlignment boundary = BoundaryAlignment::Tangent;
   /// With Tangent: a boundary edge's tangent is the chord from the boundary vertex `reach` steps
   /// before it to the one `reach` steps after it (0: the edge itself). Smooths the zigzags of

@@ -128,4 +128,43 @@ TriMesh makeEquilateralGrid(int columns, int rows, double edge) {
   return mesh;
 }
 
+TriMesh makeBox(double sx, double sy, double sz, int divisions) {
+  TriMesh mesh;
+  const int d = divisions;
+  // Surface grid points (i, j, k) ∈ [0, d]³ with a coordinate at 0 or d, shared by the sides.
+  std::map<std::array<int, 3>, VH> handles;
+  const auto at = [&](std::array<int, 3> g) {
+    const auto [it, inserted] = handles.try_emplace(g);
+    if (inserted)
+      it->second = mesh.add_vertex(point(sx * (static_cast<double>(g[0]) / d - 0.5),
+                                         sy * (static_cast<double>(g[1]) / d - 0.5),
+                                         sz * (static_cast<double>(g[2]) / d - 0.5)));
+    return it->second;
+  };
+  for (int axis = 0; axis < 3; ++axis) {
+    const int u = (axis + 1) % 3, w = (axis + 2) % 3;  // (u, w, axis) is right-handed
+    for (const int side : {0, d}) {
+      for (int a = 0; a < d; ++a)
+        for (int b = 0; b < d; ++b) {
+          std::array<std::array<int, 3>, 4> q;  // counter-clockwise seen from +axis
+          for (int c = 0; c < 4; ++c) {
+            q[c][axis] = side;
+            q[c][u] = a + (c == 1 || c == 2);
+            q[c][w] = b + (c >= 2);
+          }
+          std::array<VH, 4> v{at(q[0]), at(q[1]), at(q[2]), at(q[3])};
+          if (side == 0) std::swap(v[1], v[3]);  // outward: −axis
+          if ((a + b) % 2 == 0) {
+            mesh.add_face(v[0], v[1], v[2]);
+            mesh.add_face(v[0], v[2], v[3]);
+          } else {
+            mesh.add_face(v[0], v[1], v[3]);
+            mesh.add_face(v[1], v[2], v[3]);
+          }
+        }
+    }
+  }
+  return mesh;
+}
+
 }  // namespace hexcover

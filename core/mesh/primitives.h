@@ -24,4 +24,9 @@ TriMesh makeTube(double radius, double height, int around, int rings);
 /// loop, χ = 1.
 TriMesh makeEquilateralGrid(int columns, int rows, double edge = 1.0);
 
+/// Closed box with edge lengths (sx, sy, sz) centred at the origin, each side a grid of
+/// `divisions` × `divisions` rectangles split along alternating diagonals: 12 sharp edges of 90°
+/// meeting at 8 corners (a CAD-like shape with known creases). χ = 2.
+TriMesh makeBox(double sx, double sy, double sz, int divisions);
+
 }  // namespace hexcover

@@ -314,10 +314,124 @@ constexpr int kRowsPerFace = 6;
 constexpr int kEnergyRows = 4;  // the rows of energy (4)
 
 struct LeastSquares {
-  SparseMatrix gradient;     // 6F × columns
-  Eigen::VectorXd target;    // 6F
+  SparseMatrix gradient;     // 6F (+ crease rows) × columns
+  Eigen::VectorXd target;    // 6F (+ crease rows)
   Eigen::VectorXd faceArea;  // F (0 for degenerate faces, which are left out)
+  Eigen::VectorXd rowWeight;  // per crease row (after the 6F face rows)
 };
+
+// Creases (the field's sharp edges). A crease edge u→w seen from one of its faces f, whose field
+// follows the edge, runs along a lattice direction in f's chart; the lattice coordinate across
+// it, ℓ·p (b along e1, a along e2, a + b along e2 − e1; p Cartesian), is then constant along
+// the edge, and when it is an integer a lattice line (a row of remesh edges) lies on the crease.
+// Three rows per crease edge and face: ℓ·(p_w − p_u) = 0 (alignment) from the start; after the
+// rounding, ℓ·p_u = t and ℓ·p_w = t with t the integer nearest to the edge's mean coordinate.
+// Each edge takes its own nearest line: a crease that the lattice cannot follow exactly (a
+// curved one, or one where the field turns) moves to the next line where it must, instead of
+// straining the whole map.
+struct CreaseEdge {
+  int wedgeFrom = -1, wedgeTo = -1;
+  Eigen::Vector2d across;  // ℓ
+  double weight = 0.0;
+};
+
+// Crease edges further than this from a lattice direction in their face's chart are left free.
+constexpr double kCreaseAngleTolerance = 10.0 * M_PI / 180.0;
+constexpr int kRowsPerCrease = 3;
+
+// The crease edges of the field's sharp edges, each seen from both of its faces.
+std::vector<CreaseEdge> findCreases(const TriMesh& mesh, const CutMesh& cm,
+                                    const FaceGeometry& geometry, const RosyField& field,
+                                    const std::vector<double>& faceScale, double weight) {
+  std::vector<CreaseEdge> creases;
+  if (field.sharpEdges.empty() || !(weight > 0.0)) return creases;
+  const int n = field.n;
+  const double step = 2.0 * M_PI / n;  // lattice directions: multiples of π/3 (N = 6), π/2
+  for (const auto eh : mesh.edges()) {
+    if (!field.sharpEdges[eh.idx()]) continue;
+    for (const auto h : {eh.h0(), eh.h1()}) {
+      const auto fh = h.face();
+      const int f = fh.idx();
+      if (!(geometry.area[f] > 0.0)) continue;
+      int corner = 0, cTo = -1, cFrom = -1;
+      for (const auto g : mesh.fh_range(fh)) {
+        if (g == h) cTo = corner;
+        if (g == h.prev()) cFrom = corner;
+        ++corner;
+      }
+      const Eigen::Vector2d d = geometry.local[f][cTo] - geometry.local[f][cFrom];
+      const double angle = std::atan2(d.y(), d.x());
+      const int k = mod(static_cast<int>(std::lround(angle / step)), n / 2);
+      if (std::abs(std::remainder(angle - k * step, M_PI)) > kCreaseAngleTolerance) continue;
+      CreaseEdge crease;
+      crease.wedgeFrom = cm.halfedgeWedge[h.prev().idx()];
+      crease.wedgeTo = cm.halfedgeWedge[h.idx()];
+      if (n == 6)
+        crease.across = k == 0   ? Eigen::Vector2d(0.0, 2.0 / std::sqrt(3.0))
+                        : k == 1 ? Eigen::Vector2d(1.0, -1.0 / std::sqrt(3.0))
+                                 : Eigen::Vector2d(1.0, 1.0 / std::sqrt(3.0));
+      else
+        crease.across = k == 0 ? Eigen::Vector2d(0.0, 1.0) : Eigen::Vector2d(1.0, 0.0);
+      crease.weight = weight * d.norm() * faceScale[f];  // length in lattice units
+      creases.push_back(crease);
+    }
+  }
+  return creases;
+}
+
+// Appends the rows of the creases to ls (after the face rows; the line rows weigh 0 until
+// setCreaseTargets).
+void appendCreaseRows(const Unknowns& u, const std::vector<CreaseEdge>& creases, LeastSquares& ls) {
+  const int faceRows = static_cast<int>(ls.target.size());
+  const int rows = faceRows + kRowsPerCrease * static_cast<int>(creases.size());
+  std::vector<Triplet> triplets;
+  for (int k = 0; k < ls.gradient.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(ls.gradient, k); it; ++it)
+      triplets.emplace_back(it.row(), it.col(), it.value());
+  ls.rowWeight = Eigen::VectorXd::Zero(rows - faceRows);
+  for (std::size_t i = 0; i < creases.size(); ++i) {
+    const auto& crease = creases[i];
+    const int first = faceRows + kRowsPerCrease * static_cast<int>(i);
+    const auto add = [&](int row, int wedge, double sign) {
+      for (int coordinate = 0; coordinate < 2; ++coordinate)
+        for (const auto& [column, value] : u.wedgeRows[wedge][coordinate])
+          triplets.emplace_back(row, column, sign * crease.across[coordinate] * value);
+    };
+    add(first, crease.wedgeTo, 1.0);
+    add(first, crease.wedgeFrom, -1.0);
+    add(first + 1, crease.wedgeFrom, 1.0);
+    add(first + 2, crease.wedgeTo, 1.0);
+    ls.rowWeight[kRowsPerCrease * i] = crease.weight;
+  }
+  SparseMatrix gradient(rows, ls.gradient.cols());
+  gradient.setFromTriplets(triplets.begin(), triplets.end());
+  ls.gradient = std::move(gradient);
+  ls.target.conservativeResize(rows);
+  ls.target.tail(rows - faceRows).setZero();
+}
+
+// Cartesian coordinates of a wedge in the solution x.
+Eigen::Vector2d wedgePosition(const Unknowns& u, int wedge, const Eigen::VectorXd& x) {
+  Eigen::Vector2d p = Eigen::Vector2d::Zero();
+  for (int coordinate = 0; coordinate < 2; ++coordinate)
+    for (const auto& [column, value] : u.wedgeRows[wedge][coordinate])
+      p[coordinate] += value * x[column];
+  return p;
+}
+
+// Puts every crease edge on its nearest lattice line in x: targets and weights of its line rows.
+void setCreaseTargets(const Unknowns& u, const std::vector<CreaseEdge>& creases,
+                      const Eigen::VectorXd& x, LeastSquares& ls) {
+  const int faceRows = static_cast<int>(ls.target.size()) - kRowsPerCrease * static_cast<int>(creases.size());
+  for (std::size_t i = 0; i < creases.size(); ++i) {
+    const auto& crease = creases[i];
+    const double mean = 0.5 * crease.across.dot(wedgePosition(u, crease.wedgeFrom, x) +
+                                                 wedgePosition(u, crease.wedgeTo, x));
+    const int first = faceRows + kRowsPerCrease * static_cast<int>(i);
+    ls.target[first + 1] = ls.target[first + 2] = std::round(mean);
+    ls.rowWeight[kRowsPerCrease * i + 1] = ls.rowWeight[kRowsPerCrease * i + 2] = crease.weight;
+  }
+}
 
 LeastSquares buildLeastSquares(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
                                const FaceGeometry& geometry, const std::vector<double>& faceScale,
@@ -571,6 +685,7 @@ class EnergySystem {
     Eigen::VectorXd w(ls_.target.size());
     for (Eigen::Index f = 0; f < ls_.faceArea.size(); ++f)
       w.segment<kRowsPerFace>(kRowsPerFace * f).setConstant(ls_.faceArea[f] * faceWeight[f]);
+    w.tail(ls_.rowWeight.size()) = ls_.rowWeight;
     return w;
   }
 
@@ -926,6 +1041,8 @@ void ParamOptions::validate() const {
   if (maxStiffeningIterations < 0) fail("stiffening iterations must be ≥ 0");
   if (!(std::isfinite(conformalWeight) && conformalWeight >= 0.0))
     fail("conformal weight must be a finite number ≥ 0");
+  if (!(std::isfinite(creaseWeight) && creaseWeight >= 0.0))
+    fail("crease weight must be a finite number ≥ 0");
 }
 
 double edgeLengthForVertexCount(const TriMesh& mesh, int targetVertices, int n,
@@ -1053,10 +1170,13 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
   context.throwIfCanceled();
   LeastSquares ls;
   FaceGeometry geometry;
+  std::vector<CreaseEdge> creases;
   {
     ScopedTimer timer(result.timings, "assembly");
     geometry = computeFaceGeometry(mesh, field, cut);
+    creases = findCreases(mesh, cm, geometry, field, faceScale, options.creaseWeight);
     ls = buildLeastSquares(mesh, cm, unknowns, geometry, faceScale, options.conformalWeight);
+    appendCreaseRows(unknowns, creases, ls);
   }
   context.report("parameterization", 0.2);
 
@@ -1119,6 +1239,11 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
   {
     ScopedTimer timer(result.timings, "final solve");
     x = system.withReals(x.tail(columns - realCount));
+    if (!creases.empty()) {
+      setCreaseTargets(unknowns, creases, x, ls);
+      system.setFaceWeights(faceWeight, true);
+      x = system.withReals(x.tail(columns - realCount));
+    }
   }
   context.report("parameterization", 0.7);
 

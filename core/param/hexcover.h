@@ -57,6 +57,10 @@ struct ParamOptions {
   bool latticeDescent = true;
   /// Greedy rounding: fraction of the remaining integer unknowns rounded per re-solve, in (0, 1].
   double greedyBatchFraction = 0.25;
+  /// Weight of the creases of the field (RosyField::sharpEdges) per unit of crease length in
+  /// lattice units, relative to energy (4) per unit of area: each crease edge along a lattice
+  /// direction is pulled onto its nearest lattice line (see hexcover.cpp). 0 ignores them.
+  double creaseWeight = 10.0;
   /// Maximum stiffening re-solves while flipped triangles remain (0 disables stiffening).
   int maxStiffeningIterations = 10;
   /// CHOLMOD by default: with OpenBLAS it factorizes the bunny's system 2.6x faster (bench_param).
@@ -98,6 +102,13 @@ std::vector<double> smoothSizing(const TriMesh& mesh, const std::vector<double>&
 /// lattice units are rounded onto one lattice point and force local degeneration (its Fig. 15),
 /// and more distant ones cost fewer irregular vertices.
 inline constexpr double kSingularityDistanceInEdges = 6.0;
+
+/// Creases of a parameterization's field (the remesh pipeline and `hexcover param`): sharp edges
+/// of at least kDefaultFeatureAngle degrees on lines at least kCreaseLineInEdges · h long
+/// (FieldOptions::sharpEdgeAngle, sharpLineLength). Shorter lines are the folds of scans (an
+/// ear's rim on camelhead: 5.4 h at a quarter of its vertices); fandisk's edges are 10-25 h.
+inline constexpr double kDefaultFeatureAngle = 60.0;
+inline constexpr double kCreaseLineInEdges = 6.0;
 
 /// FieldOptions::maxMergedIndex of the field for a parameterization (the remesh pipeline and
 /// `hexcover param`): merges stop at index ±1/N, whose fixed point is a lattice point; a ±2/6 is

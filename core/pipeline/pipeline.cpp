@@ -28,6 +28,9 @@ void RemeshOptions::validate() const {
   if (rosy != 6) fail("rosy must be 6 (triangles), got " + std::to_string(rosy));
   if (dSing && !(std::isfinite(*dSing) && *dSing >= 0.0))
     fail("singularity distance d_sing must be a finite number ≥ 0, got " + std::to_string(*dSing));
+  if (!(featureAngle >= 0.0 && featureAngle <= 180.0))
+    fail("feature angle must be between 0 and 180 degrees (0: creases not followed), got " +
+         std::to_string(featureAngle));
   if (maxFaces == 0) fail("the face limit must be positive");
 }
 
@@ -103,6 +106,8 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
     fieldOptions.n = options.rosy;
     fieldOptions.singularityDistance = result.singularityDistance;
     fieldOptions.maxMergedIndex = kMergedIndexForLattice;
+    fieldOptions.sharpEdgeAngle = options.featureAngle;
+    fieldOptions.sharpLineLength = kCreaseLineInEdges * h;
     if (const std::string problem = fieldOptions.validate(); !problem.empty())
       throw Error(ErrorCode::InvalidOption, problem);
     // d_sing = 0 means "no clustering" to the caller; the field reads 0 as "use the default".

@@ -13,6 +13,7 @@
 #include "core/mesh/mesh.h"
 #include "core/mesh/report.h"
 #include "core/metrics/metrics.h"
+#include "core/param/hexcover.h"
 
 namespace hexcover {
 
@@ -34,6 +35,10 @@ struct RemeshOptions {
   int rosy = 6;
   Sizing sizing = Sizing::Uniform;
   VertexPlacement placement = VertexPlacement::Balanced;
+  /// Creases of at least this dihedral angle (degrees) on lines at least kCreaseLineInEdges
+  /// edge lengths long are followed by the field and by lattice lines, so that rows of remesh
+  /// edges lie on them (CAD models); 0 turns crease alignment off. In [0, 180].
+  double featureAngle = kDefaultFeatureAngle;
   /// Singularity clustering distance d_sing in model units; by default
   /// kSingularityDistanceInEdges × the edge length (paper 5.2, see pipeline.cpp).
   std::optional<double> dSing;

@@ -24,6 +24,7 @@ TEST(OptionsJson, EmptyObjectGivesThePipelineDefaults) {
   EXPECT_EQ(options.rosy, defaults.rosy);
   EXPECT_EQ(options.sizing, defaults.sizing);
   EXPECT_EQ(options.placement, defaults.placement);
+  EXPECT_EQ(options.featureAngle, defaults.featureAngle);
   EXPECT_FALSE(options.edgeLength);
   EXPECT_FALSE(options.targetVertices);
   EXPECT_FALSE(options.dSing);
@@ -44,6 +45,10 @@ TEST(OptionsJson, ValuesAreReadAndNormalizedFormRoundTrips) {
   const auto onSurface = remeshOptionsFromJson({{"placement", "on_surface"}});
   EXPECT_EQ(onSurface.placement, VertexPlacement::OnSurface);
   EXPECT_EQ(toJson(onSurface).at("placement"), "on_surface");
+  EXPECT_EQ(json.at("feature_angle"), 60.0);
+  const auto noCreases = remeshOptionsFromJson({{"feature_angle", 0}});
+  EXPECT_EQ(noCreases.featureAngle, 0.0);
+  EXPECT_EQ(toJson(noCreases).at("feature_angle"), 0.0);
 }
 
 TEST(OptionsJson, BadNamesAndTypesNameTheOption) {
@@ -53,6 +58,7 @@ TEST(OptionsJson, BadNamesAndTypesNameTheOption) {
   EXPECT_NE(errorOf({{"sizing", "adaptive"}}).find("'sizing'"), std::string::npos);
   EXPECT_NE(errorOf({{"placement", "exact"}}).find("'placement'"), std::string::npos);
   EXPECT_NE(errorOf({{"edge_length", "1mm"}}).find("'edge_length'"), std::string::npos);
+  EXPECT_NE(errorOf({{"feature_angle", "sharp"}}).find("'feature_angle'"), std::string::npos);
   EXPECT_NE(errorOf(nlohmann::json::array()).find("object"), std::string::npos);
 }
 

@@ -142,6 +142,42 @@ TEST(FieldSolver, TangentBoundaryAlignmentFollowsTheBoundaryEdges) {
   }
 }
 
+/// Mean over the faces at the mesh's sharp edges of the angle (degrees) between the crease and
+/// the nearest field direction.
+double meanCreaseMisalignmentDegrees(const TriMesh& mesh, const RosyField& field,
+                                     const std::vector<bool>& sharp) {
+  double sum = 0.0;
+  int count = 0;
+  for (const auto eh : mesh.edges()) {
+    if (!sharp[eh.idx()]) continue;
+    const Eigen::Vector3d t = toEigen(mesh.point(eh.v1()) - mesh.point(eh.v0())).normalized();
+    for (const auto h : {eh.h0(), eh.h1()}) {
+      const auto fh = h.face();
+      sum += angleToNearestDirection(field.faceDirection[fh.idx()], faceNormal(mesh, fh), t,
+                                     field.n);
+      ++count;
+    }
+  }
+  return count > 0 ? sum / count * 180.0 / M_PI : 0.0;
+}
+
+TEST(FieldSolver, CreaseConstraintsAlignTheFieldWithTheEdgesOfABox) {
+  const TriMesh box = makeBox(1.0, 0.8, 0.6, 12);
+  FieldOptions options;
+  options.sharpEdgeAngle = 60.0;
+  const RosyField aligned = computeRosyField(box, options);
+  ASSERT_EQ(aligned.sharpEdges.size(), box.n_edges());
+  EXPECT_EQ(std::count(aligned.sharpEdges.begin(), aligned.sharpEdges.end(), true), 12 * 12);
+  EXPECT_EQ(indexSum(aligned), 2 * 6);
+  const double withCreases = meanCreaseMisalignmentDegrees(box, aligned, aligned.sharpEdges);
+  EXPECT_LT(withCreases, 5.0);
+
+  options.sharpEdgeAngle = 0.0;
+  const RosyField free = computeRosyField(box, options);
+  EXPECT_TRUE(free.sharpEdges.empty());
+  EXPECT_GT(meanCreaseMisalignmentDegrees(box, free, aligned.sharpEdges), 2.0 * withCreases);
+}
+
 TEST(FieldSolver, SliversValenceThreeVerticesAndBoundariesGiveFiniteOutput) {
   // A tube whose faces are split 1-to-3 at points 1e-9 from one of their edges: every split
   // adds a valence-3 vertex and a sliver.
@@ -248,6 +284,12 @@ TEST(FieldSolver, RejectsBadOptionsByName) {
   options = {};
   options.threads = 0;
   EXPECT_NE(options.validate().find("threads"), std::string::npos);
+  options = {};
+  options.sharpEdgeAngle = 200.0;
+  EXPECT_NE(options.validate().find("sharpEdgeAngle"), std::string::npos);
+  options = {};
+  options.sharpEdgeWeight = 0.0;
+  EXPECT_NE(options.validate().find("sharpEdgeWeight"), std::string::npos);
 }
 
 TEST(FieldSolver, StopsWhenCanceled) {

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
@@ -500,6 +501,9 @@ TEST(HexCover, BadOptionsAndForeignFieldsAreRefusedWithInvalidOption) {
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::InvalidOption);
   }
+  options = {};
+  options.creaseWeight = -1.0;
+  EXPECT_THROW(computeParameterization(mesh, field, options), Error);
   const RosyField other = icosahedralField(makeIcosphere(2));
   try {
     computeParameterization(mesh, other, ParamOptions{});
@@ -507,6 +511,48 @@ TEST(HexCover, BadOptionsAndForeignFieldsAreRefusedWithInvalidOption) {
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::InvalidOption);
   }
+}
+
+/// Mean over the sharp edges of the field, seen from each of their faces, of the distance to the
+/// nearest integer of the lattice coordinate across the edge (b, a or a + b, whichever is most
+/// nearly constant along it), at both ends: 0 when every crease lies on a lattice line.
+double meanCreaseOffsetFromLatticeLines(const TriMesh& mesh, const RosyField& field,
+                                        const Parameterization& p) {
+  const std::array<Eigen::Vector2d, 3> across{Eigen::Vector2d(0, 1), Eigen::Vector2d(1, 0),
+                                              Eigen::Vector2d(1, 1)};
+  double sum = 0.0;
+  int count = 0;
+  for (const auto eh : mesh.edges()) {
+    if (!field.sharpEdges[eh.idx()]) continue;
+    for (const auto h : {eh.h0(), eh.h1()}) {
+      const Eigen::Vector2d a = p.cornerCoords[h.prev().idx()], b = p.cornerCoords[h.idx()];
+      const auto change = [&](const Eigen::Vector2d& l) { return std::abs(l.dot(b - a)); };
+      const Eigen::Vector2d& l = *std::min_element(
+          across.begin(), across.end(),
+          [&](const auto& x, const auto& y) { return change(x) < change(y); });
+      for (const double c : {l.dot(a), l.dot(b)}) sum += std::abs(c - std::round(c));
+      count += 2;
+    }
+  }
+  return sum / count;
+}
+
+TEST(HexCover, CreasesOfTheFieldLieOnLatticeLines) {
+  // 1 × 0.8 × 0.6 with h = 0.13: no side is a whole number of lattice units.
+  const TriMesh box = makeBox(1.0, 0.8, 0.6, 12);
+  FieldOptions fieldOptions = latticeFieldOptions();
+  fieldOptions.sharpEdgeAngle = 60.0;
+  const RosyField field = computeRosyField(box, fieldOptions);
+  ASSERT_FALSE(field.sharpEdges.empty());
+  ParamOptions options;
+  options.edgeLength = 0.13;
+  const Parameterization withCreases = computeParameterization(box, field, options);
+  expectSeamlessLatticeMapWithoutFoldOvers(box, field, withCreases);
+  options.creaseWeight = 0.0;
+  const Parameterization without = computeParameterization(box, field, options);
+  const double offset = meanCreaseOffsetFromLatticeLines(box, field, withCreases);
+  EXPECT_LT(offset, 0.05);
+  EXPECT_GT(meanCreaseOffsetFromLatticeLines(box, field, without), 3.0 * offset);
 }
 
 // Shared clean meshes with the geometry-aware field of core/field at the default edge length

@@ -118,6 +118,27 @@ TEST(PipelineRemesh, PlacesVerticesOnTheInputOrBalancedAboutIt) {
   expectQualityFloors(balanced, "balanced torus");
 }
 
+// Creases: a box remeshed with its edges followed by rows of remesh edges. Without crease
+// alignment the lattice cuts across the edges and the box comes out rounded (measured at 800
+// vertices: Hausdorff 1.22% against 0.17%, angle SD 5.4° against 4.3°, 20 irregular vertices
+// against 12).
+TEST(PipelineRemesh, FollowsTheCreasesOfABox) {
+  const PolygonSoup box = toPolygonSoup(makeBox(1.0, 0.8, 0.6, 20));
+  RemeshOptions options;
+  options.targetVertices = 800;
+  const RemeshResult withCreases = remesh(box, options);
+  expectQualityFloors(withCreases, "box");
+  EXPECT_LT(withCreases.metrics.distance->hausdorffPct, 0.5);
+  options.featureAngle = 0.0;
+  const RemeshResult without = remesh(box, options);
+  EXPECT_GT(without.metrics.distance->hausdorffPct,
+            2.0 * withCreases.metrics.distance->hausdorffPct);
+  EXPECT_GT(without.metrics.angleSd, withCreases.metrics.angleSd);
+
+  options.featureAngle = 181.0;
+  EXPECT_THROW(remesh(box, options), Error);
+}
+
 TEST(PipelineRemesh, KeepsAComponentWhoseRemeshWouldChangeItsTopology) {
   // A cube of 8 vertices at the default settings (a target of 4 vertices): the few lattice
   // triangles that fit close up into two two-sided pairs (two components), so the cube is kept as
