@@ -223,7 +223,7 @@ def _parser() -> argparse.ArgumentParser:
     remesh.add_argument("--sizing", choices=("uniform", "curvature"))
     remesh.add_argument("--placement", choices=("balanced", "on_surface"))
     remesh.add_argument("--feature-angle", type=float,
-                        help="creases of at least this dihedral angle (degrees, default 60) are "
+                        help="creases of at least this dihedral angle (degrees, default 70) are "
                              "followed; 0 turns this off")
     remesh.add_argument("--d-sing", type=float, help="singularity clustering distance")
     remesh.add_argument("--out", help="folder for the downloaded results (none: only metrics)")

@@ -45,7 +45,7 @@ TEST(OptionsJson, ValuesAreReadAndNormalizedFormRoundTrips) {
   const auto onSurface = remeshOptionsFromJson({{"placement", "on_surface"}});
   EXPECT_EQ(onSurface.placement, VertexPlacement::OnSurface);
   EXPECT_EQ(toJson(onSurface).at("placement"), "on_surface");
-  EXPECT_EQ(json.at("feature_angle"), 60.0);
+  EXPECT_EQ(json.at("feature_angle"), 70.0);
   const auto noCreases = remeshOptionsFromJson({{"feature_angle", 0}});
   EXPECT_EQ(noCreases.featureAngle, 0.0);
   EXPECT_EQ(toJson(noCreases).at("feature_angle"), 0.0);
