@@ -674,7 +674,8 @@ class EnergySystem {
     return r;
   }
 
-  /// Σ_f A_f |rows_f x − target_f|² (energy (4) plus the anisotropy rows, unit weights).
+  /// Σ_f A_f |rows_f x − target_f|² (energy (4) plus the anisotropy rows, unit face weights)
+  /// plus the crease rows at their weights.
   double energy(const Eigen::VectorXd& x) const {
     const Eigen::VectorXd residual = ls_.gradient * x - ls_.target;
     return rowWeights(Eigen::VectorXd::Ones(ls_.faceArea.size())).dot(residual.cwiseAbs2());

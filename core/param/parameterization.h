@@ -56,9 +56,11 @@ struct Parameterization {
   int degenerateTriangles = 0;   ///< parameter triangles with (near) zero area
   DistortionStats distortion;
   /// Energy (4) plus the anisotropy term (ParamOptions::conformalWeight) of the final solution,
-  /// in units of area/h².
+  /// in units of area/h², plus the crease terms (ParamOptions::creaseWeight) where the field has
+  /// creases.
   double energy = 0.0;
-  double localEnergy = 0.0;      ///< the same for the local step (no integer constraints)
+  double localEnergy = 0.0;      ///< the same for the local step (no integer constraints; the
+                                 ///< creases only aligned, not yet on lattice lines)
   int latticeDescentMoves = 0;  ///< rounding improvements by lattice descent (see hexcover.cpp)
   int flippedBeforeStiffening = 0;  ///< flipped triangles right after the final solve (before
                                     ///< rounding repair and stiffening)
