@@ -382,6 +382,7 @@ std::vector<CreaseEdge> findCreases(const TriMesh& mesh, const CutMesh& cm,
 // Appends the rows of the creases to ls (after the face rows; the line rows weigh 0 until
 // setCreaseTargets).
 void appendCreaseRows(const Unknowns& u, const std::vector<CreaseEdge>& creases, LeastSquares& ls) {
+  if (creases.empty()) return;
   const int faceRows = static_cast<int>(ls.target.size());
   const int rows = faceRows + kRowsPerCrease * static_cast<int>(creases.size());
   std::vector<Triplet> triplets;
@@ -422,7 +423,8 @@ Eigen::Vector2d wedgePosition(const Unknowns& u, int wedge, const Eigen::VectorX
 // Puts every crease edge on its nearest lattice line in x: targets and weights of its line rows.
 void setCreaseTargets(const Unknowns& u, const std::vector<CreaseEdge>& creases,
                       const Eigen::VectorXd& x, LeastSquares& ls) {
-  const int faceRows = static_cast<int>(ls.target.size()) - kRowsPerCrease * static_cast<int>(creases.size());
+  const int faceRows =
+      static_cast<int>(ls.target.size()) - kRowsPerCrease * static_cast<int>(creases.size());
   for (std::size_t i = 0; i < creases.size(); ++i) {
     const auto& crease = creases[i];
     const double mean = 0.5 * crease.across.dot(wedgePosition(u, crease.wedgeFrom, x) +
