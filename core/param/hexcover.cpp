@@ -1244,7 +1244,7 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
     x = system.withReals(x.tail(columns - realCount));
     if (!creases.empty()) {
       setCreaseTargets(unknowns, creases, x, ls);
-      system.setFaceWeights(faceWeight, true);
+      system.setFaceWeights(faceWeight, false);  // the integers are fixed from here on
       x = system.withReals(x.tail(columns - realCount));
     }
   }
