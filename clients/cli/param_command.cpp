@@ -35,11 +35,10 @@ int runParam(int argc, char** argv) {
   if (!output) throw UsageError("missing -o TEXTURED.obj");
   if (args.has("--edge-length") && args.has("--vertices"))
     throw UsageError("give --edge-length or --vertices, not both");
-  FieldOptions fieldOptions;
-  fieldOptions.maxMergedIndex = kMergedIndexForLattice;
+  int n = 6;
   if (const auto rosy = args.integer("--rosy")) {
     if (*rosy != 6 && *rosy != 4) throw UsageError("--rosy must be 6 or 4");
-    fieldOptions.n = static_cast<int>(*rosy);
+    n = static_cast<int>(*rosy);
   }
   ParamOptions options;
   if (const auto h = args.number("--edge-length")) {
@@ -75,14 +74,13 @@ int runParam(int argc, char** argv) {
                                      options.targetVertices > 0
                                          ? options.targetVertices
                                          : std::max(4, static_cast<int>(mesh.n_vertices()) / 4),
-                                     fieldOptions.n);
+                                     n);
   // d_sing follows the edge length as in the remesh pipeline (paper 3.3: for remeshing it "can be
   // selected based on the edge length of the output mesh"): singularities closer than a few
   // lattice units would be rounded onto one lattice point (its Fig. 15). --d-sing 0.1·B gives the
-  // paper's figures.
-  fieldOptions.singularityDistance = dSing.value_or(kSingularityDistanceInEdges * uniform);
-  fieldOptions.sharpEdgeAngle = featureAngle;  // creases as in the remesh pipeline
-  fieldOptions.sharpLineLength = kCreaseLineInEdges * uniform;
+  // paper's figures. Creases as in the remesh pipeline.
+  const FieldOptions fieldOptions = parameterizationFieldOptions(
+      n, uniform, dSing.value_or(kSingularityDistanceInEdges * uniform), featureAngle);
   const RosyField field = computeRosyField(mesh, fieldOptions);
   if (sizing == "curvature") {
     // Scale with the largest absolute principal curvature (paper Fig. 13).

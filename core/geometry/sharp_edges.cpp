@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cmath>
+#include <vector>
 
 namespace hexcover {
 namespace {
@@ -26,10 +27,12 @@ std::vector<bool> sharpEdges(const TriMesh& mesh, double minDihedralDegrees,
   std::vector<bool> sharp(mesh.n_edges(), false);
   if (!(minDihedralDegrees > 0.0)) return sharp;
   const double maxCosine = std::cos(minDihedralDegrees * M_PI / 180.0);
+  std::vector<Eigen::Vector3d> normal(mesh.n_faces());
+  for (const auto f : mesh.faces()) normal[f.idx()] = faceNormal(mesh, f);
   for (const auto e : mesh.edges()) {
     if (e.is_boundary()) continue;
-    const Eigen::Vector3d n0 = faceNormal(mesh, e.h0().face());
-    const Eigen::Vector3d n1 = faceNormal(mesh, e.h1().face());
+    const Eigen::Vector3d& n0 = normal[e.h0().face().idx()];
+    const Eigen::Vector3d& n1 = normal[e.h1().face().idx()];
     sharp[e.idx()] = !n0.isZero() && !n1.isZero() && n0.dot(n1) <= maxCosine;
   }
   std::vector<int> sharpAt(mesh.n_vertices(), 0);

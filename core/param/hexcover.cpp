@@ -323,7 +323,8 @@ struct LeastSquares {
 // Creases (the field's sharp edges). A crease edge u→w seen from one of its faces f, whose field
 // follows the edge, runs along a lattice direction in f's chart; the lattice coordinate across
 // it, ℓ·p (b along e1, a along e2, a + b along e2 − e1; p Cartesian), is then constant along
-// the edge, and when it is an integer a lattice line (a row of remesh edges) lies on the crease.
+// the edge, and when it is an integer a lattice line (a row of remesh edges) lies on the crease
+// (for N = 4 the directions are e1 and e2, and ℓ is b or a).
 // Three rows per crease edge and face: ℓ·(p_w − p_u) = 0 (alignment) from the start; after the
 // rounding, ℓ·p_u = t and ℓ·p_w = t with t the integer nearest to the edge's mean coordinate.
 // Each edge takes its own nearest line: a crease that the lattice cannot follow exactly (a
@@ -347,6 +348,10 @@ std::vector<CreaseEdge> findCreases(const TriMesh& mesh, const CutMesh& cm,
   if (field.sharpEdges.empty() || !(weight > 0.0)) return creases;
   const int n = field.n;
   const double step = 2.0 * M_PI / n;  // lattice directions: multiples of π/3 (N = 6), π/2
+  const Eigen::Matrix2d toLattice = latticeBasis(n).inverse();  // Cartesian p ↦ (a, b)
+  // The lattice coordinate across direction k: b along e1, a along e2, a + b along e2 − e1.
+  const std::array<Eigen::Vector2d, 3> acrossInLattice{
+      Eigen::Vector2d(0.0, 1.0), Eigen::Vector2d(1.0, 0.0), Eigen::Vector2d(1.0, 1.0)};
   for (const auto eh : mesh.edges()) {
     if (!field.sharpEdges[eh.idx()]) continue;
     for (const auto h : {eh.h0(), eh.h1()}) {
@@ -366,12 +371,7 @@ std::vector<CreaseEdge> findCreases(const TriMesh& mesh, const CutMesh& cm,
       CreaseEdge crease;
       crease.wedgeFrom = cm.halfedgeWedge[h.prev().idx()];
       crease.wedgeTo = cm.halfedgeWedge[h.idx()];
-      if (n == 6)
-        crease.across = k == 0   ? Eigen::Vector2d(0.0, 2.0 / std::sqrt(3.0))
-                        : k == 1 ? Eigen::Vector2d(1.0, -1.0 / std::sqrt(3.0))
-                                 : Eigen::Vector2d(1.0, 1.0 / std::sqrt(3.0));
-      else
-        crease.across = k == 0 ? Eigen::Vector2d(0.0, 1.0) : Eigen::Vector2d(1.0, 0.0);
+      crease.across = toLattice.transpose() * acrossInLattice[k];
       crease.weight = weight * d.norm() * faceScale[f];  // length in lattice units
       creases.push_back(crease);
     }
@@ -379,17 +379,11 @@ std::vector<CreaseEdge> findCreases(const TriMesh& mesh, const CutMesh& cm,
   return creases;
 }
 
-// Appends the rows of the creases to ls (after the face rows; the line rows weigh 0 until
-// setCreaseTargets).
-void appendCreaseRows(const Unknowns& u, const std::vector<CreaseEdge>& creases, LeastSquares& ls) {
-  if (creases.empty()) return;
-  const int faceRows = static_cast<int>(ls.target.size());
-  const int rows = faceRows + kRowsPerCrease * static_cast<int>(creases.size());
-  std::vector<Triplet> triplets;
-  for (int k = 0; k < ls.gradient.outerSize(); ++k)
-    for (SparseMatrix::InnerIterator it(ls.gradient, k); it; ++it)
-      triplets.emplace_back(it.row(), it.col(), it.value());
-  ls.rowWeight = Eigen::VectorXd::Zero(rows - faceRows);
+// The rows of the creases after the face rows `faceRows`: their triplets, and their weights in
+// ls.rowWeight (the line rows weigh 0 until setCreaseTargets).
+void addCreaseRows(const Unknowns& u, const std::vector<CreaseEdge>& creases, int faceRows,
+                   std::vector<Triplet>& triplets, LeastSquares& ls) {
+  ls.rowWeight = Eigen::VectorXd::Zero(kRowsPerCrease * static_cast<int>(creases.size()));
   for (std::size_t i = 0; i < creases.size(); ++i) {
     const auto& crease = creases[i];
     const int first = faceRows + kRowsPerCrease * static_cast<int>(i);
@@ -404,11 +398,6 @@ void appendCreaseRows(const Unknowns& u, const std::vector<CreaseEdge>& creases,
     add(first + 2, crease.wedgeTo, 1.0);
     ls.rowWeight[kRowsPerCrease * i] = crease.weight;
   }
-  SparseMatrix gradient(rows, ls.gradient.cols());
-  gradient.setFromTriplets(triplets.begin(), triplets.end());
-  ls.gradient = std::move(gradient);
-  ls.target.conservativeResize(rows);
-  ls.target.tail(rows - faceRows).setZero();
 }
 
 // Cartesian coordinates of a wedge in the solution x.
@@ -435,13 +424,15 @@ void setCreaseTargets(const Unknowns& u, const std::vector<CreaseEdge>& creases,
   }
 }
 
+// The rows of energy (4) and the anisotropy of every face (see above), then the crease rows.
 LeastSquares buildLeastSquares(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
                                const FaceGeometry& geometry, const std::vector<double>& faceScale,
-                               double conformalWeight) {
+                               double conformalWeight, const std::vector<CreaseEdge>& creases) {
   const int nF = static_cast<int>(mesh.n_faces());
+  const int rows = kRowsPerFace * nF + kRowsPerCrease * static_cast<int>(creases.size());
   const double rootWeight = std::sqrt(conformalWeight);
   LeastSquares ls;
-  ls.target = Eigen::VectorXd::Zero(kRowsPerFace * nF);
+  ls.target = Eigen::VectorXd::Zero(rows);
   ls.faceArea = Eigen::VectorXd::Zero(nF);
   std::vector<Triplet> triplets;
   triplets.reserve(static_cast<std::size_t>(nF) * 72);
@@ -470,7 +461,8 @@ LeastSquares buildLeastSquares(const TriMesh& mesh, const CutMesh& cm, const Unk
       }
     }
   }
-  ls.gradient.resize(kRowsPerFace * nF, u.columns());
+  addCreaseRows(u, creases, kRowsPerFace * nF, triplets, ls);
+  ls.gradient.resize(rows, u.columns());
   ls.gradient.setFromTriplets(triplets.begin(), triplets.end());
   return ls;
 }
@@ -1048,6 +1040,17 @@ void ParamOptions::validate() const {
     fail("crease weight must be a finite number ≥ 0");
 }
 
+FieldOptions parameterizationFieldOptions(int n, double edgeLength, double singularityDistance,
+                                          double featureAngle) {
+  FieldOptions options;
+  options.n = n;
+  options.maxMergedIndex = kMergedIndexForLattice;
+  options.singularityDistance = singularityDistance;
+  options.sharpEdgeAngle = featureAngle;
+  options.sharpLineLength = kCreaseLineInEdges * edgeLength;
+  return options;
+}
+
 double edgeLengthForVertexCount(const TriMesh& mesh, int targetVertices, int n,
                                 const std::vector<double>& vertexSizing) {
   if (targetVertices < 1)
@@ -1178,8 +1181,8 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
     ScopedTimer timer(result.timings, "assembly");
     geometry = computeFaceGeometry(mesh, field, cut);
     creases = findCreases(mesh, cm, geometry, field, faceScale, options.creaseWeight);
-    ls = buildLeastSquares(mesh, cm, unknowns, geometry, faceScale, options.conformalWeight);
-    appendCreaseRows(unknowns, creases, ls);
+    ls = buildLeastSquares(mesh, cm, unknowns, geometry, faceScale, options.conformalWeight,
+                           creases);
   }
   context.report("parameterization", 0.2);
 

@@ -112,6 +112,13 @@ inline constexpr double kSingularityDistanceInEdges = 6.0;
 inline constexpr double kDefaultFeatureAngle = 70.0;
 inline constexpr double kCreaseLineInEdges = 4.0;
 
+/// The field options of a parameterization at edge length h (the remesh pipeline and
+/// `hexcover param`): symmetry order n, singularities clustered at `singularityDistance` with
+/// merges up to kMergedIndexForLattice, creases of at least `featureAngle` degrees on lines at
+/// least kCreaseLineInEdges · h long.
+FieldOptions parameterizationFieldOptions(int n, double edgeLength, double singularityDistance,
+                                          double featureAngle);
+
 /// FieldOptions::maxMergedIndex of the field for a parameterization (the remesh pipeline and
 /// `hexcover param`): merges stop at index ±1/N, whose fixed point is a lattice point; a ±2/6 is
 /// best placed at a ⅓ lattice point, which the rounding of section 4.4 does not support.

@@ -102,12 +102,8 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   RosyField field;
   {
     ScopedTimer timer(result.timings, "field");
-    FieldOptions fieldOptions;
-    fieldOptions.n = options.rosy;
-    fieldOptions.singularityDistance = result.singularityDistance;
-    fieldOptions.maxMergedIndex = kMergedIndexForLattice;
-    fieldOptions.sharpEdgeAngle = options.featureAngle;
-    fieldOptions.sharpLineLength = kCreaseLineInEdges * h;
+    FieldOptions fieldOptions = parameterizationFieldOptions(
+        options.rosy, h, result.singularityDistance, options.featureAngle);
     if (const std::string problem = fieldOptions.validate(); !problem.empty())
       throw Error(ErrorCode::InvalidOption, problem);
     // d_sing = 0 means "no clustering" to the caller; the field reads 0 as "use the default".
