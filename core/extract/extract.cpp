@@ -32,6 +32,11 @@ void ExtractOptions::validate() const {
   if (!(sliverAngle >= 0.0 && sliverAngle < 60.0))
     throw Error(ErrorCode::InvalidOption,
                 "sliverAngle must be in [0, 60) degrees, got " + std::to_string(sliverAngle));
+  if (!(creaseAngle >= 0.0 && creaseAngle <= 180.0))
+    throw Error(ErrorCode::InvalidOption,
+                "creaseAngle must be in [0, 180] degrees, got " + std::to_string(creaseAngle));
+  if (threads < 1)
+    throw Error(ErrorCode::InvalidOption, "threads must be at least 1, got " + std::to_string(threads));
 }
 
 namespace {
@@ -1127,9 +1132,9 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     context.throwIfCanceled();
     if (options.fitToSurface && result.triangles.n_faces() > 0) {
       const ClosestPointQuery inputQuery(mesh);
-      const auto counts = extract_detail::fitRemeshToSurface(mesh, inputQuery, result.triangles,
-                                                             options.featureSnapDistance,
-                                                             options.balanceDeviation);
+      const auto counts = extract_detail::fitRemeshToSurface(
+          mesh, inputQuery, result.triangles, options.featureSnapDistance, options.creaseAngle,
+          options.balanceDeviation, options.threads);
       report.featureSnaps = counts.snapped;
       report.smoothedVertices = counts.smoothed;
       report.relaxedVertices = counts.relaxed;

@@ -47,6 +47,7 @@
 #include "core/common/run_context.h"
 #include "core/common/timings.h"
 #include "core/mesh/mesh.h"
+#include "core/param/hexcover.h"
 #include "core/param/parameterization.h"
 
 namespace hexcover {
@@ -77,6 +78,11 @@ struct ExtractOptions {
   /// floor) get the edge flip that raises it, at the cost of two valences. In [0, 60); 0
   /// disables the step.
   double sliverAngle = 20.0;
+  /// Step 7's relaxation keeps the remesh close to the input's crease vertices: those with an
+  /// edge whose dihedral angle is at least this many degrees. In [0, 180]; 0: none.
+  double creaseAngle = kDefaultFeatureAngle;
+  /// Worker threads of step 7's relaxation (the result is the same for any count). At least 1.
+  int threads = 2;
 
   /// Throws Error(InvalidOption) naming the first bad option.
   void validate() const;

@@ -7,6 +7,7 @@
 #include <optional>
 #include <vector>
 
+#include "core/common/concurrency.h"
 #include "core/extract/fan_geometry.h"
 #include "core/geometry/closest_point.h"
 
@@ -31,9 +32,20 @@ constexpr double kPoorMaxAngle = 110.0;
 /// the projection onto the input moves the fan by far less).
 constexpr double kSmoothingDeviation = 0.1;
 /// Relaxation moves only vertices whose triangles' angles deviate from 60° by more than this RMS
-/// (degrees), in kRelaxPasses passes, halfway to their neighbours' centroid.
-constexpr double kRelaxMinRms = 5.0;
+/// (degrees), in up to kRelaxPasses passes of one descent step each: kRelaxFirstStep local edge
+/// lengths, halved up to kRelaxSteps − 1 times; the gradient by forward differences of
+/// kGradientStep local edge lengths; at least kRelaxChunk vertices per thread.
+constexpr double kRelaxMinRms = 2.0;
 constexpr int kRelaxPasses = 3;
+constexpr double kRelaxFirstStep = 0.1;
+constexpr int kRelaxSteps = 8;
+constexpr double kGradientStep = 1e-4;
+constexpr std::size_t kRelaxChunk = 64;
+/// A relaxed fan may deviate from the input by up to this many local edge lengths (and no more
+/// than the largest fan deviation before relaxation), from the input's crease vertices by up to
+/// kRelaxCreaseDeviation (or, either way, by no more than it did).
+constexpr double kRelaxDeviation = 0.2;
+constexpr double kRelaxCreaseDeviation = 0.1;
 /// Smoothing's trial moves besides the centroid: directions, and steps in local edge lengths.
 constexpr int kTrialDirections = 8;
 constexpr std::array<double, 3> kTrialSteps{0.1, 0.2, 0.35};
@@ -48,17 +60,39 @@ constexpr int kBalancePasses = 4;
 constexpr int kBalanceSearchSteps = 8;
 constexpr int kBalanceDivisions = 3;
 
+/// Per vertex of `mesh`: the largest dihedral angle (degrees, between the normals of the two
+/// faces) of its interior edges; 0 for a vertex without one.
+std::vector<double> sharpestDihedral(const TriMesh& mesh) {
+  std::vector<Vec3> normal(mesh.n_faces());
+  for (const auto f : mesh.faces())
+    normal[f.idx()] = triangleNormal(facePositions(mesh, f, OpenMesh::VertexHandle(), Vec3::Zero()));
+  std::vector<double> sharpest(mesh.n_vertices(), 0.0);
+  for (const auto e : mesh.edges()) {
+    if (e.is_boundary()) continue;
+    const double cosine = normal[e.h0().face().idx()].dot(normal[e.h1().face().idx()]);
+    const double angle = std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / M_PI;
+    for (const auto v : {e.v0(), e.v1()}) sharpest[v.idx()] = std::max(sharpest[v.idx()], angle);
+  }
+  return sharpest;
+}
+
 class SurfaceFit {
  public:
-  SurfaceFit(const TriMesh& input, const ClosestPointQuery& inputQuery, TriMesh& remesh)
+  SurfaceFit(const TriMesh& input, const ClosestPointQuery& inputQuery, TriMesh& remesh,
+             double creaseAngle, int threads)
       : remesh_(remesh),
+        threads_(threads),
         inputQuery_(inputQuery),
         locked_(remesh.n_vertices(), 0),
         moved_(remesh.n_vertices(), 0) {
     for (const auto v : remesh_.vertices())
       locked_[v.idx()] = remesh_.is_boundary(v) || remesh_.is_isolated(v);
+    const std::vector<double> sharpest = sharpestDihedral(input);
     for (const auto v : input.vertices())
-      if (!input.is_isolated(v)) inputPoints_.push_back(toEigen(input.point(v)));
+      if (!input.is_isolated(v)) {
+        inputPoints_.push_back(toEigen(input.point(v)));
+        creasePoint_.push_back(creaseAngle > 0.0 && sharpest[v.idx()] >= creaseAngle);
+      }
     featurePointCount_ = inputPoints_.size();
     for (const auto f : input.faces()) {
       Vec3 centroid = Vec3::Zero();
@@ -175,27 +209,45 @@ class SurfaceFit {
 
   /// Relaxation (see surface_fit.h); returns the number of moves.
   long long relax() {
+    assignInputPoints();
+    std::vector<double> deviation(remesh_.n_vertices(), 0.0);
+    parallelFor(remesh_.n_vertices(), threads_, [&](std::size_t i) {
+      const SVH v(static_cast<int>(i), &remesh_);
+      if (relaxable(v)) deviation[i] = fanDeviation(v, position(v));
+    });
+    const double largest = *std::max_element(deviation.begin(), deviation.end());
+    // Vertices of one class share no triangle, so their steps are independent: each class moves
+    // in parallel, and the result does not depend on the thread count.
+    const std::vector<std::vector<int>> classes = independentClasses();
+    std::vector<char> active(remesh_.n_vertices(), 1);
     long long moves = 0;
     for (int pass = 0; pass < kRelaxPasses; ++pass) {
-      assignInputPoints();
+      if (pass > 0) assignInputPoints();
+      std::vector<char> movedNow(remesh_.n_vertices(), 0);
+      for (const auto& members : classes)
+        parallelFor(
+            members.size(), threads_,
+            [&](std::size_t k) {
+              const SVH v(members[k], &remesh_);
+              if (!active[v.idx()]) return;
+              if (const auto p = descentStep(v, largest)) {
+                remesh_.set_point(v, toOpenMesh(*p));
+                movedNow[v.idx()] = 1;
+              }
+            },
+            kRelaxChunk);
+      // The next pass visits the moved vertices and their neighbours: their fans changed.
+      std::fill(active.begin(), active.end(), 0);
+      long long passMoves = 0;
       for (const auto v : remesh_.vertices()) {
-        if (locked_[v.idx()]) continue;
-        const Vec3 current = position(v);
-        const double variance = fanAngleVariance(v, current);
-        if (variance < kRelaxMinRms * kRelaxMinRms * 3.0 * v.valence()) continue;
-        Vec3 centroid = Vec3::Zero();
-        double count = 0.0;
-        for (const auto w : v.vertices()) centroid += position(w), count += 1.0;
-        const Vec3 candidate = inputQuery_.closest(0.5 * (current + centroid / count)).point;
-        if (!(fanAngleVariance(v, candidate) < variance) ||
-            fanAngleBadness(remesh_, v, candidate) > fanAngleBadness(remesh_, v, current) ||
-            fanDeviation(v, candidate) >
-                std::max(fanDeviation(v, current), kSmoothingDeviation * vertexEdgeLength(v)))
-          continue;
-        remesh_.set_point(v, toOpenMesh(candidate));
+        if (!movedNow[v.idx()]) continue;
         moved_[v.idx()] = 1;
-        ++moves;
+        active[v.idx()] = 1;
+        for (const auto w : v.vertices()) active[w.idx()] = 1;
+        ++passMoves;
       }
+      moves += passMoves;
+      if (passMoves == 0) break;
     }
     return moves;
   }
@@ -248,6 +300,7 @@ class SurfaceFit {
 
  private:
   TriMesh& remesh_;
+  int threads_;  ///< for relaxation and the assignment of input points (same result for any count)
   const ClosestPointQuery& inputQuery_;
   std::vector<char> locked_;  ///< per remesh vertex: boundary, isolated or snapped all the way
   std::vector<char> moved_;   ///< per remesh vertex: moved since the last assignInputPoints
@@ -255,6 +308,9 @@ class SurfaceFit {
   /// centroids.
   std::vector<Vec3> inputPoints_;
   std::size_t featurePointCount_ = 0;
+  /// Per feature point: an input vertex on a crease (an edge whose dihedral angle is at least
+  /// the crease angle).
+  std::vector<char> creasePoint_;
   double meanEdgeLength_ = 0.0;  ///< of the remesh as extracted
   /// Per input point: its closest remesh triangle (refreshed by assignInputPoints).
   std::vector<ClosestPointQuery::Result> nearest_;
@@ -299,6 +355,64 @@ class SurfaceFit {
     double sum = 0.0;
     for (const auto f : v.faces()) sum += squaredAngleDeviation(facePositions(remesh_, f, v, p));
     return sum;
+  }
+
+  /// Relaxation moves the interior vertices, snapped ones too: the deviation bounds keep them
+  /// near their features.
+  bool relaxable(SVH v) const { return !remesh_.is_boundary(v) && !remesh_.is_isolated(v); }
+
+  /// The relaxable vertices in classes of which no two share a triangle (greedy colouring in
+  /// index order).
+  std::vector<std::vector<int>> independentClasses() const {
+    std::vector<int> colour(remesh_.n_vertices(), -1);
+    std::vector<std::vector<int>> classes;
+    std::vector<char> taken;
+    for (const auto v : remesh_.vertices()) {
+      if (!relaxable(v)) continue;
+      taken.assign(classes.size(), 0);
+      for (const auto w : v.vertices())
+        if (colour[w.idx()] >= 0) taken[colour[w.idx()]] = 1;
+      const auto c = static_cast<std::size_t>(std::find(taken.begin(), taken.end(), 0) - taken.begin());
+      if (c == classes.size()) classes.emplace_back();
+      colour[v.idx()] = static_cast<int>(c);
+      classes[c].push_back(v.idx());
+    }
+    return classes;
+  }
+
+  /// One relaxation step of v (see surface_fit.h): down the gradient, in v's tangent plane, of
+  /// the sum of squared deviations of its triangles' angles from 60° (forward differences),
+  /// kRelaxFirstStep local edge lengths halved until the sum drops, projected onto the input.
+  /// Nothing when v's angles are within kRelaxMinRms of 60° already, when the step would raise
+  /// their badness, or when it would take the fan beyond its deviation bounds (`largest`: the
+  /// largest fan deviation before relaxation).
+  std::optional<Vec3> descentStep(SVH v, double largest) const {
+    const Vec3 current = position(v);
+    const double variance = fanAngleVariance(v, current);
+    if (variance < kRelaxMinRms * kRelaxMinRms * 3.0 * v.valence()) return std::nullopt;
+    const Vec3 normal = fanNormal(v);
+    if (normal.isZero()) return std::nullopt;
+    const Vec3 u = normal.unitOrthogonal(), w = normal.cross(u);
+    const double length = vertexEdgeLength(v);
+    const double h = kGradientStep * length;
+    const Vec3 gradient = (fanAngleVariance(v, current + h * u) - variance) / h * u +
+                          (fanAngleVariance(v, current + h * w) - variance) / h * w;
+    if (!(gradient.norm() > 0.0)) return std::nullopt;
+    const Vec3 direction = -gradient.normalized();
+    const double badness = fanAngleBadness(remesh_, v, current);
+    std::optional<std::array<double, 2>> bounds;  // on the fan's deviation and its crease deviation
+    double step = kRelaxFirstStep * length;
+    for (int k = 0; k < kRelaxSteps; ++k, step *= 0.5) {
+      const Vec3 candidate = inputQuery_.closest(current + step * direction).point;
+      if (!(fanAngleVariance(v, candidate) < variance)) continue;
+      if (fanAngleBadness(remesh_, v, candidate) > badness) return std::nullopt;
+      if (!bounds)
+        bounds = {std::max(fanDeviation(v, current), std::min(largest, kRelaxDeviation * length)),
+                  std::max(creaseDeviation(v, current), kRelaxCreaseDeviation * length)};
+      if (fanDeviation(v, candidate) <= (*bounds)[0] && creaseDeviation(v, candidate) <= (*bounds)[1])
+        return candidate;
+    }
+    return std::nullopt;
   }
 
   /// Where smoothing tries to put v (before projection onto the input): a quarter to all of the
@@ -347,7 +461,7 @@ class SurfaceFit {
     const ClosestPointQuery remeshQuery(remesh_);
     const bool all = nearest_.empty();
     nearest_.resize(inputPoints_.size());
-    for (std::size_t i = 0; i < inputPoints_.size(); ++i) {
+    parallelFor(inputPoints_.size(), threads_, [&](std::size_t i) {
       bool changed = all;
       if (!all)
         for (const auto v :
@@ -355,28 +469,49 @@ class SurfaceFit {
           changed = changed || moved_[v.idx()];
       // The connectivity never changes: the previous closest triangle seeds the search.
       if (changed) nearest_[i] = remeshQuery.closest(inputPoints_[i], all ? -1 : nearest_[i].face);
-    }
+    });
     std::fill(moved_.begin(), moved_.end(), 0);
     facePoints_.assign(remesh_.n_faces(), {});
     for (std::size_t i = 0; i < inputPoints_.size(); ++i)
       facePoints_[nearest_[i].face].push_back(static_cast<int>(i));
   }
 
-  /// Local deviation between v's fan (v at p) and the input (see surface_fit.h). With
-  /// `divisions` > 1 the fan's triangles are sampled on a barycentric grid of that many
-  /// divisions instead of at their centroids and v's edge midpoints.
-  double fanDeviation(SVH v, const Vec3& p, int divisions = 1) const {
+  /// Largest distance to v's fan (its triangles `fan`) of the input points whose closest remesh
+  /// triangle is in it; with `creasesOnly` only of the input's crease vertices.
+  double assignedPointDeviation(SVH v, const std::vector<std::array<Vec3, 3>>& fan,
+                                bool creasesOnly) const {
     double deviation = 0.0;
-    std::vector<std::array<Vec3, 3>> fan;
-    for (const auto f : v.faces()) fan.push_back(facePositions(remesh_, f, v, p));
     for (const auto f : v.faces())
       for (const int i : facePoints_[f.idx()]) {
+        if (creasesOnly && !isCreasePoint(i)) continue;
         const Vec3& q = inputPoints_[i];
         double d = std::numeric_limits<double>::infinity();
         for (const auto& t : fan)
           d = std::min(d, (closestPointOnTriangle(q, t[0], t[1], t[2]) - q).norm());
         deviation = std::max(deviation, d);
       }
+    return deviation;
+  }
+
+  bool isCreasePoint(int i) const {
+    return static_cast<std::size_t>(i) < featurePointCount_ && creasePoint_[i];
+  }
+
+  /// Largest distance from the input's crease vertices whose closest remesh triangle is in v's
+  /// fan to the fan (v at p).
+  double creaseDeviation(SVH v, const Vec3& p) const {
+    std::vector<std::array<Vec3, 3>> fan;
+    for (const auto f : v.faces()) fan.push_back(facePositions(remesh_, f, v, p));
+    return assignedPointDeviation(v, fan, true);
+  }
+
+  /// Local deviation between v's fan (v at p) and the input (see surface_fit.h). With
+  /// `divisions` > 1 the fan's triangles are sampled on a barycentric grid of that many
+  /// divisions instead of at their centroids and v's edge midpoints.
+  double fanDeviation(SVH v, const Vec3& p, int divisions = 1) const {
+    std::vector<std::array<Vec3, 3>> fan;
+    for (const auto f : v.faces()) fan.push_back(facePositions(remesh_, f, v, p));
+    double deviation = assignedPointDeviation(v, fan, false);
     // The moving parts of the fan: v, its triangles' centroids and the midpoints of v's edges.
     // Queries start from the input face nearest p, which makes them short.
     const auto self = inputQuery_.closest(p);
@@ -408,10 +543,11 @@ class SurfaceFit {
 
 SurfaceFitCounts fitRemeshToSurface(const TriMesh& input, const ClosestPointQuery& inputQuery,
                                     TriMesh& remesh, double featureSnapDistance,
-                                    bool balanceDeviation, int rounds) {
+                                    double creaseAngle, bool balanceDeviation, int threads,
+                                    int rounds) {
   SurfaceFitCounts counts;
   if (input.n_faces() == 0 || remesh.n_faces() == 0) return counts;
-  SurfaceFit fit(input, inputQuery, remesh);
+  SurfaceFit fit(input, inputQuery, remesh, creaseAngle, threads);
   for (int round = 0; round < rounds; ++round) {
     const long long snapped = fit.snapFeatures(featureSnapDistance);
     const long long smoothed = fit.smoothPoorTriangles();

@@ -120,6 +120,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   Parameterization param;
   ExtractOptions extractOptions;
   extractOptions.balanceDeviation = options.placement == VertexPlacement::Balanced;
+  extractOptions.creaseAngle = options.featureAngle;
   for (int run = 1;; ++run) {
     auto start = Clock::now();
     ParamOptions paramOptions;

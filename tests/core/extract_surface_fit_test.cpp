@@ -13,6 +13,7 @@
 #include "core/geometry/closest_point.h"
 #include "core/mesh/primitives.h"
 #include "core/metrics/hausdorff.h"
+#include "core/param/hexcover.h"
 
 namespace hexcover::extract_detail {
 namespace {
@@ -90,10 +91,16 @@ TEST(SurfaceFit, SnapsVerticesOntoASharpRidgeThatTheCoarseMeshCutsOff) {
   const double cutOff = largestDistance(ridge, remesh);
   ASSERT_GT(cutOff, 0.1) << "the coarse mesh should miss the ridge";
 
+  TriMesh withoutCreases = remesh;
   const SurfaceFitCounts counts = fitRemeshToSurface(input, ClosestPointQuery(input), remesh, 0.1,
-                                                     /*balanceDeviation=*/false);
+                                                     kDefaultFeatureAngle, /*balanceDeviation=*/false);
   EXPECT_GT(counts.snapped, 0);
   EXPECT_LT(largestDistance(ridge, remesh), 0.5 * cutOff);
+  // Without crease vertices, relaxation evens out the angles at the ridge's expense (within
+  // kRelaxDeviation = 0.2 edge lengths).
+  fitRemeshToSurface(input, ClosestPointQuery(input), withoutCreases, 0.1, /*creaseAngle=*/0.0,
+                     /*balanceDeviation=*/false);
+  EXPECT_GT(largestDistance(ridge, withoutCreases), largestDistance(ridge, remesh) + 0.02);
   // Same triangles; every vertex still on the roof; boundary vertices where they were.
   EXPECT_EQ(faceCorners(remesh), faceCorners(before));
   for (const auto v : remesh.vertices()) {
@@ -143,11 +150,11 @@ TEST(SurfaceFit, MeasuresTheSnapThresholdAgainstTheMeanEdgeLengthWhereTrianglesA
   TriMesh alone = liftedGridOnTheRoof(false);
   const double cutOff = largestDistance(ridge, alone);
   ASSERT_LT(cutOff, 0.45) << "the ridge should be within the threshold of the coarse grid alone";
-  EXPECT_EQ(fitRemeshToSurface(input, ClosestPointQuery(input), alone, 0.45, false).snapped, 0);
+  EXPECT_EQ(fitRemeshToSurface(input, ClosestPointQuery(input), alone, 0.45, kDefaultFeatureAngle, false).snapped, 0);
 
   TriMesh withFine = liftedGridOnTheRoof(true);
   const SurfaceFitCounts counts =
-      fitRemeshToSurface(input, ClosestPointQuery(input), withFine, 0.45, false);
+      fitRemeshToSurface(input, ClosestPointQuery(input), withFine, 0.45, kDefaultFeatureAngle, false);
   EXPECT_GT(counts.snapped, 0);
   EXPECT_LT(largestDistance(ridge, withFine), 0.5 * cutOff);
 }
@@ -186,7 +193,8 @@ TEST(SurfaceFit, MovesPartWayToARidgeWhenAFullSnapWouldOpenAnAngleTooFar) {
   const double before = largestDistance(ridgePoint, fan);
 
   const SurfaceFitCounts counts =
-      fitRemeshToSurface(input, ClosestPointQuery(input), fan, 0.1, /*balanceDeviation=*/false);
+      fitRemeshToSurface(input, ClosestPointQuery(input), fan, 0.1, kDefaultFeatureAngle,
+                         /*balanceDeviation=*/false);
   EXPECT_GE(counts.snapped, 1);  // part-way moves may go on in later rounds
   const auto moved = fan.point(centre);
   EXPECT_GT(moved[1], 0.3);
@@ -212,7 +220,8 @@ TEST(SurfaceFit, SmoothsAPoorTriangleAndKeepsTheVertexOnTheSurface) {
   ASSERT_LT(poor, 25.0);
 
   const SurfaceFitCounts counts =
-      fitRemeshToSurface(input, onInput, remesh, 0.0, /*balanceDeviation=*/false);
+      fitRemeshToSurface(input, onInput, remesh, 0.0, kDefaultFeatureAngle,
+                         /*balanceDeviation=*/false);
   EXPECT_EQ(counts.snapped, 0) << "snapping is off";
   EXPECT_EQ(counts.balanced, 0) << "balancing is off";
   EXPECT_GT(counts.smoothed, 0);
@@ -234,22 +243,28 @@ double angleSd(const TriMesh& mesh) {
   return std::sqrt(sumSquares / count - (sum / count) * (sum / count));
 }
 
+/// An equilateral grid (edge 1) with its interior vertices jittered in the plane by up to 0.2
+/// edge lengths (a fixed pattern).
+TriMesh jitteredGrid(int columns, int rows) {
+  TriMesh grid = makeEquilateralGrid(columns, rows);
+  int k = 0;
+  for (const auto v : grid.vertices()) {
+    if (grid.is_boundary(v)) continue;
+    ++k;
+    grid.set_point(
+        v, grid.point(v) + TriMesh::Point(0.2 * std::sin(1.7 * k), 0.2 * std::cos(2.3 * k), 0.0));
+  }
+  return grid;
+}
+
 TEST(SurfaceFit, RelaxesAJitteredGridInItsPlane) {
   const TriMesh input = makeEquilateralGrid(12, 12);
-  TriMesh remesh = input;
-  // Interior vertices jittered in the plane by up to 0.2 edge lengths (a fixed pattern).
-  int k = 0;
-  for (const auto v : remesh.vertices()) {
-    if (remesh.is_boundary(v)) continue;
-    ++k;
-    remesh.set_point(
-        v, remesh.point(v) + TriMesh::Point(0.2 * std::sin(1.7 * k), 0.2 * std::cos(2.3 * k), 0.0));
-  }
+  TriMesh remesh = jitteredGrid(12, 12);
   const TriMesh jittered = remesh;
   const double before = angleSd(remesh);
   ASSERT_GT(before, 8.0);
 
-  const SurfaceFitCounts counts = fitRemeshToSurface(input, ClosestPointQuery(input), remesh, 0.35);
+  const SurfaceFitCounts counts = fitRemeshToSurface(input, ClosestPointQuery(input), remesh, 0.35, kDefaultFeatureAngle);
   EXPECT_EQ(counts.snapped, 0) << "the grid has no feature";
   EXPECT_GT(counts.relaxed, 0);
   EXPECT_LT(angleSd(remesh), 0.7 * before);
@@ -261,6 +276,17 @@ TEST(SurfaceFit, RelaxesAJitteredGridInItsPlane) {
   }
 }
 
+TEST(SurfaceFit, RelaxationGivesTheSameMeshForAnyThreadCount) {
+  // Large enough that each independent class spans several chunks of work.
+  const TriMesh input = makeEquilateralGrid(40, 40);
+  const ClosestPointQuery onInput(input);
+  TriMesh one = jitteredGrid(40, 40), two = one;
+  const auto counts = fitRemeshToSurface(input, onInput, one, 0.0, kDefaultFeatureAngle, false, 1);
+  fitRemeshToSurface(input, onInput, two, 0.0, kDefaultFeatureAngle, false, 2);
+  EXPECT_GT(counts.relaxed, 1000);
+  for (const auto v : one.vertices()) EXPECT_EQ(one.point(v), two.point(v));
+}
+
 TEST(SurfaceFit, OnlyRelaxesAMeshThatMatchesTheInput) {
   // An icosphere against itself: no input point is away from the remesh and no triangle is poor,
   // so nothing snaps or smooths; relaxation may even out the angles (54°-72°) near the 12
@@ -268,7 +294,7 @@ TEST(SurfaceFit, OnlyRelaxesAMeshThatMatchesTheInput) {
   const TriMesh input = makeIcosphere(3);
   TriMesh remesh = input;
   const ClosestPointQuery onInput(input);
-  const SurfaceFitCounts counts = fitRemeshToSurface(input, onInput, remesh, 0.35);
+  const SurfaceFitCounts counts = fitRemeshToSurface(input, onInput, remesh, 0.35, kDefaultFeatureAngle);
   EXPECT_EQ(counts.snapped, 0);
   EXPECT_EQ(counts.smoothed, 0);
   EXPECT_LE(angleSd(remesh), angleSd(input));
@@ -288,12 +314,12 @@ TEST(SurfaceFit, BalancesACoarseSphereAboutTheInputSurface) {
   const double sdBefore = angleSd(remesh);
 
   TriMesh unbalanced = remesh;
-  EXPECT_EQ(fitRemeshToSurface(input, onInput, unbalanced, 0.35, false).balanced, 0);
+  EXPECT_EQ(fitRemeshToSurface(input, onInput, unbalanced, 0.35, kDefaultFeatureAngle, false).balanced, 0);
   EXPECT_NEAR(twoSidedDistance(input, unbalanced).hausdorff(), before.hausdorff(),
               1e-3 * before.hausdorff())
       << "without balancing nothing moves off the sphere";
 
-  const SurfaceFitCounts counts = fitRemeshToSurface(input, onInput, remesh, 0.35);
+  const SurfaceFitCounts counts = fitRemeshToSurface(input, onInput, remesh, 0.35, kDefaultFeatureAngle);
   EXPECT_GE(counts.balanced, 42);
   const TwoSidedDistance after = twoSidedDistance(input, remesh);
   EXPECT_LT(after.hausdorff(), 0.65 * before.hausdorff());
