@@ -400,17 +400,27 @@ class SurfaceFit {
     if (!(gradient.norm() > 0.0)) return std::nullopt;
     const Vec3 direction = -gradient.normalized();
     const double badness = fanAngleBadness(remesh_, v, current);
-    std::optional<std::array<double, 2>> bounds;  // on the fan's deviation and its crease deviation
+    // Within the bounds: deviations no larger than the limits, or than before the step.
+    const double limit = std::min(largest, kRelaxDeviation * length);
+    const double creaseLimit = kRelaxCreaseDeviation * length;
+    std::optional<double> deviation, creaseDeviationNow;  // v's fan before the step
+    const auto withinBounds = [&](const Vec3& p) {
+      if (fanDeviation(v, p, 1, limit) > limit) {
+        if (!deviation) deviation = fanDeviation(v, current);
+        if (fanDeviation(v, p, 1, *deviation) > *deviation) return false;
+      }
+      if (creaseDeviation(v, p, creaseLimit) > creaseLimit) {
+        if (!creaseDeviationNow) creaseDeviationNow = creaseDeviation(v, current);
+        if (creaseDeviation(v, p, *creaseDeviationNow) > *creaseDeviationNow) return false;
+      }
+      return true;
+    };
     double step = kRelaxFirstStep * length;
     for (int k = 0; k < kRelaxSteps; ++k, step *= 0.5) {
       const Vec3 candidate = inputQuery_.closest(current + step * direction).point;
       if (!(fanAngleVariance(v, candidate) < variance)) continue;
       if (fanAngleBadness(remesh_, v, candidate) > badness) return std::nullopt;
-      if (!bounds)
-        bounds = {std::max(fanDeviation(v, current), std::min(largest, kRelaxDeviation * length)),
-                  std::max(creaseDeviation(v, current), kRelaxCreaseDeviation * length)};
-      if (fanDeviation(v, candidate) <= (*bounds)[0] && creaseDeviation(v, candidate) <= (*bounds)[1])
-        return candidate;
+      if (withinBounds(candidate)) return candidate;
     }
     return std::nullopt;
   }
@@ -476,20 +486,30 @@ class SurfaceFit {
       facePoints_[nearest_[i].face].push_back(static_cast<int>(i));
   }
 
-  /// Largest distance to v's fan (its triangles `fan`) of the input points whose closest remesh
-  /// triangle is in it; with `creasesOnly` only of the input's crease vertices.
+  /// Largest distance to v's fan (its triangles `fan`, in the order of v.faces()) of the input
+  /// points whose closest remesh triangle is in it; with `creasesOnly` only of the input's crease
+  /// vertices. Stops early with a value above `stopAbove` once the largest exceeds it.
   double assignedPointDeviation(SVH v, const std::vector<std::array<Vec3, 3>>& fan,
-                                bool creasesOnly) const {
+                                bool creasesOnly, double stopAbove) const {
+    const auto distance = [](const Vec3& q, const std::array<Vec3, 3>& t) {
+      return (closestPointOnTriangle(q, t[0], t[1], t[2]) - q).norm();
+    };
     double deviation = 0.0;
-    for (const auto f : v.faces())
+    std::size_t k = 0;
+    for (const auto f : v.faces()) {
+      const auto& own = fan[k++];
       for (const int i : facePoints_[f.idx()]) {
         if (creasesOnly && !isCreasePoint(i)) continue;
         const Vec3& q = inputPoints_[i];
+        // The distance to the point's own triangle bounds its distance to the fan: when that is
+        // no more than the largest so far, the point cannot raise it.
+        if (distance(q, own) <= deviation) continue;
         double d = std::numeric_limits<double>::infinity();
-        for (const auto& t : fan)
-          d = std::min(d, (closestPointOnTriangle(q, t[0], t[1], t[2]) - q).norm());
+        for (const auto& t : fan) d = std::min(d, distance(q, t));
         deviation = std::max(deviation, d);
+        if (deviation > stopAbove) return deviation;
       }
+    }
     return deviation;
   }
 
@@ -498,20 +518,24 @@ class SurfaceFit {
   }
 
   /// Largest distance from the input's crease vertices whose closest remesh triangle is in v's
-  /// fan to the fan (v at p).
-  double creaseDeviation(SVH v, const Vec3& p) const {
+  /// fan to the fan (v at p); early stop as in assignedPointDeviation.
+  double creaseDeviation(SVH v, const Vec3& p,
+                         double stopAbove = std::numeric_limits<double>::infinity()) const {
     std::vector<std::array<Vec3, 3>> fan;
     for (const auto f : v.faces()) fan.push_back(facePositions(remesh_, f, v, p));
-    return assignedPointDeviation(v, fan, true);
+    return assignedPointDeviation(v, fan, true, stopAbove);
   }
 
   /// Local deviation between v's fan (v at p) and the input (see surface_fit.h). With
   /// `divisions` > 1 the fan's triangles are sampled on a barycentric grid of that many
-  /// divisions instead of at their centroids and v's edge midpoints.
-  double fanDeviation(SVH v, const Vec3& p, int divisions = 1) const {
+  /// divisions instead of at their centroids and v's edge midpoints. Stops early with a value
+  /// above `stopAbove` once the deviation exceeds it (divisions = 1).
+  double fanDeviation(SVH v, const Vec3& p, int divisions = 1,
+                      double stopAbove = std::numeric_limits<double>::infinity()) const {
     std::vector<std::array<Vec3, 3>> fan;
     for (const auto f : v.faces()) fan.push_back(facePositions(remesh_, f, v, p));
-    double deviation = assignedPointDeviation(v, fan, false);
+    double deviation = assignedPointDeviation(v, fan, false, stopAbove);
+    if (deviation > stopAbove) return deviation;
     // The moving parts of the fan: v, its triangles' centroids and the midpoints of v's edges.
     // Queries start from the input face nearest p, which makes them short.
     const auto self = inputQuery_.closest(p);
@@ -530,11 +554,13 @@ class SurfaceFit {
           }
       return deviation;
     }
-    for (const auto& t : fan)
-      deviation =
-          std::max(deviation, inputQuery_.closest((t[0] + t[1] + t[2]) / 3.0, hint).distance);
-    for (const auto w : v.vertices())
-      deviation = std::max(deviation, inputQuery_.closest(0.5 * (p + position(w)), hint).distance);
+    std::vector<Vec3> samples;
+    for (const auto& t : fan) samples.push_back((t[0] + t[1] + t[2]) / 3.0);
+    for (const auto w : v.vertices()) samples.push_back(0.5 * (p + position(w)));
+    for (const Vec3& q : samples) {
+      if (deviation > stopAbove) break;
+      deviation = std::max(deviation, inputQuery_.closest(q, hint).distance);
+    }
     return deviation;
   }
 };
