@@ -210,11 +210,7 @@ class SurfaceFit {
   /// Relaxation (see surface_fit.h); returns the number of moves.
   long long relax() {
     assignInputPoints();
-    std::vector<double> deviation(remesh_.n_vertices(), 0.0);
-    parallelFor(remesh_.n_vertices(), threads_, [&](std::size_t i) {
-      const SVH v(static_cast<int>(i), &remesh_);
-      if (relaxable(v)) deviation[i] = fanDeviation(v, position(v));
-    });
+    const std::vector<double> deviation = interiorFanDeviations();
     const double largest = *std::max_element(deviation.begin(), deviation.end());
     // Vertices of one class share no triangle, so their steps are independent: each class moves
     // in parallel, and the result does not depend on the thread count.
@@ -258,13 +254,8 @@ class SurfaceFit {
     // (and kBalanceMinDeviation local edge lengths) are balanced: the two-sided distance is a
     // maximum, and a line search costs a few hundred closest-point queries.
     assignInputPoints();
-    std::vector<double> deviation(remesh_.n_vertices(), 0.0);
-    double largest = 0.0;
-    for (const auto v : remesh_.vertices()) {
-      if (remesh_.is_boundary(v) || remesh_.is_isolated(v)) continue;
-      deviation[v.idx()] = fanDeviation(v, position(v));
-      largest = std::max(largest, deviation[v.idx()]);
-    }
+    std::vector<double> deviation = interiorFanDeviations();
+    const double largest = *std::max_element(deviation.begin(), deviation.end());
     const double threshold = kBalanceShareOfLargest * largest;
     const double snapWindowBadness = angleBadness({kSnapMinAngle, kSnapMaxAngle});
     long long moves = 0;
@@ -355,6 +346,16 @@ class SurfaceFit {
     double sum = 0.0;
     for (const auto f : v.faces()) sum += squaredAngleDeviation(facePositions(remesh_, f, v, p));
     return sum;
+  }
+
+  /// Per remesh vertex: the local deviation of its fan, 0 for boundary and isolated vertices.
+  std::vector<double> interiorFanDeviations() const {
+    std::vector<double> deviation(remesh_.n_vertices(), 0.0);
+    parallelFor(remesh_.n_vertices(), threads_, [&](std::size_t i) {
+      const SVH v(static_cast<int>(i), &remesh_);
+      if (relaxable(v)) deviation[i] = fanDeviation(v, position(v));
+    });
+    return deviation;
   }
 
   /// Relaxation moves the interior vertices, snapped ones too: the deviation bounds keep them
