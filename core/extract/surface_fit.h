@@ -26,8 +26,8 @@
 //   fan within kRelaxCreaseDeviation local edge lengths (or, either way, no larger than
 //   before). Up to kRelaxPasses passes, each over the vertices whose fans changed. Vertices
 //   that share no triangle move in parallel (a greedy colouring), so the result does not
-//   depend on the thread count. This is what lowers the angle SD (at K = V/4: fandisk 6.13 →
-//   5.86°, rocker-arm 3.91 → 3.17°, fertility 4.38 → 3.97°).
+//   depend on the thread count. This is what lowers the angle SD (at K = V/4: fandisk
+//   6.13 → 5.87°, rocker-arm 3.91 → 3.22°, feline 5.28 → 4.74°).
 // - Balancing (last, kBalancePasses passes): a vertex whose fan deviates from the input by at
 //   least half the largest fan deviation (and kBalanceMinDeviation local edge lengths) moves
 //   along its fan's normal to the offset (within ±kBalanceReach local edge lengths,
