@@ -10,6 +10,7 @@
 #include "core/common/concurrency.h"
 #include "core/extract/fan_geometry.h"
 #include "core/geometry/closest_point.h"
+#include "core/geometry/sharp_edges.h"
 
 namespace hexcover::extract_detail {
 namespace {
@@ -60,22 +61,6 @@ constexpr int kBalancePasses = 4;
 constexpr int kBalanceSearchSteps = 8;
 constexpr int kBalanceDivisions = 3;
 
-/// Per vertex of `mesh`: the largest dihedral angle (degrees, between the normals of the two
-/// faces) of its interior edges; 0 for a vertex without one.
-std::vector<double> sharpestDihedral(const TriMesh& mesh) {
-  std::vector<Vec3> normal(mesh.n_faces());
-  for (const auto f : mesh.faces())
-    normal[f.idx()] = triangleNormal(facePositions(mesh, f, OpenMesh::VertexHandle(), Vec3::Zero()));
-  std::vector<double> sharpest(mesh.n_vertices(), 0.0);
-  for (const auto e : mesh.edges()) {
-    if (e.is_boundary()) continue;
-    const double cosine = normal[e.h0().face().idx()].dot(normal[e.h1().face().idx()]);
-    const double angle = std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / M_PI;
-    for (const auto v : {e.v0(), e.v1()}) sharpest[v.idx()] = std::max(sharpest[v.idx()], angle);
-  }
-  return sharpest;
-}
-
 class SurfaceFit {
  public:
   SurfaceFit(const TriMesh& input, const ClosestPointQuery& inputQuery, TriMesh& remesh,
@@ -85,13 +70,17 @@ class SurfaceFit {
         inputQuery_(inputQuery),
         locked_(remesh.n_vertices(), 0),
         moved_(remesh.n_vertices(), 0) {
-    for (const auto v : remesh_.vertices())
-      locked_[v.idx()] = remesh_.is_boundary(v) || remesh_.is_isolated(v);
-    const std::vector<double> sharpest = sharpestDihedral(input);
+    for (const auto v : remesh_.vertices()) locked_[v.idx()] = !isInterior(v);
+    std::vector<char> onCrease(input.n_vertices(), 0);
+    if (creaseAngle > 0.0) {
+      const std::vector<double> dihedral = dihedralAngles(input);
+      for (const auto e : input.edges())
+        if (dihedral[e.idx()] >= creaseAngle) onCrease[e.v0().idx()] = onCrease[e.v1().idx()] = 1;
+    }
     for (const auto v : input.vertices())
       if (!input.is_isolated(v)) {
         inputPoints_.push_back(toEigen(input.point(v)));
-        creasePoint_.push_back(creaseAngle > 0.0 && sharpest[v.idx()] >= creaseAngle);
+        creasePoint_.push_back(onCrease[v.idx()]);
       }
     featurePointCount_ = inputPoints_.size();
     for (const auto f : input.faces()) {
@@ -264,7 +253,7 @@ class SurfaceFit {
       if (pass > 0) assignInputPoints();
       std::vector<char> nextVisit(remesh_.n_vertices(), 0);
       for (const auto v : remesh_.vertices()) {
-        if (!visit[v.idx()] || remesh_.is_boundary(v) || remesh_.is_isolated(v)) continue;
+        if (!visit[v.idx()] || !isInterior(v)) continue;
         const Vec3 current = position(v);
         const double length = vertexEdgeLength(v);
         // Later passes visit the neighbours of moves, whose deviation changed.
@@ -353,23 +342,23 @@ class SurfaceFit {
     std::vector<double> deviation(remesh_.n_vertices(), 0.0);
     parallelFor(remesh_.n_vertices(), threads_, [&](std::size_t i) {
       const SVH v(static_cast<int>(i), &remesh_);
-      if (relaxable(v)) deviation[i] = fanDeviation(v, position(v));
+      if (isInterior(v)) deviation[i] = fanDeviation(v, position(v));
     });
     return deviation;
   }
 
-  /// Relaxation moves the interior vertices, snapped ones too: the deviation bounds keep them
-  /// near their features.
-  bool relaxable(SVH v) const { return !remesh_.is_boundary(v) && !remesh_.is_isolated(v); }
+  /// Neither on the boundary nor isolated: relaxation and balancing move such vertices, snapped
+  /// ones too (relaxation's deviation bounds keep them near their features).
+  bool isInterior(SVH v) const { return !remesh_.is_boundary(v) && !remesh_.is_isolated(v); }
 
-  /// The relaxable vertices in classes of which no two share a triangle (greedy colouring in
+  /// The interior vertices in classes of which no two share a triangle (greedy colouring in
   /// index order).
   std::vector<std::vector<int>> independentClasses() const {
     std::vector<int> colour(remesh_.n_vertices(), -1);
     std::vector<std::vector<int>> classes;
     std::vector<char> taken;
     for (const auto v : remesh_.vertices()) {
-      if (!relaxable(v)) continue;
+      if (!isInterior(v)) continue;
       taken.assign(classes.size(), 0);
       for (const auto w : v.vertices())
         if (colour[w.idx()] >= 0) taken[colour[w.idx()]] = 1;
@@ -401,20 +390,24 @@ class SurfaceFit {
     if (!(gradient.norm() > 0.0)) return std::nullopt;
     const Vec3 direction = -gradient.normalized();
     const double badness = fanAngleBadness(remesh_, v, current);
-    // Within the bounds: deviations no larger than the limits, or than before the step.
+    // Within the bounds: each deviation (measure(p, stopAbove)) no larger than its limit or
+    // than before the step, which is measured once, when needed.
+    const auto noWorse = [&](const auto& measure, const Vec3& p, double limit,
+                             std::optional<double>& before) {
+      if (measure(p, limit) <= limit) return true;
+      if (!before) before = measure(current, std::numeric_limits<double>::infinity());
+      return *before > limit && measure(p, *before) <= *before;
+    };
+    const auto deviationAt = [&](const Vec3& p, double stop) { return fanDeviation(v, p, 1, stop); };
+    const auto creaseDeviationAt = [&](const Vec3& p, double stop) {
+      return creaseDeviation(v, p, stop);
+    };
     const double limit = std::min(largest, kRelaxDeviation * length);
     const double creaseLimit = kRelaxCreaseDeviation * length;
-    std::optional<double> deviation, creaseDeviationNow;  // v's fan before the step
+    std::optional<double> deviationBefore, creaseDeviationBefore;
     const auto withinBounds = [&](const Vec3& p) {
-      if (fanDeviation(v, p, 1, limit) > limit) {
-        if (!deviation) deviation = fanDeviation(v, current);
-        if (fanDeviation(v, p, 1, *deviation) > *deviation) return false;
-      }
-      if (creaseDeviation(v, p, creaseLimit) > creaseLimit) {
-        if (!creaseDeviationNow) creaseDeviationNow = creaseDeviation(v, current);
-        if (creaseDeviation(v, p, *creaseDeviationNow) > *creaseDeviationNow) return false;
-      }
-      return true;
+      return noWorse(deviationAt, p, limit, deviationBefore) &&
+             noWorse(creaseDeviationAt, p, creaseLimit, creaseDeviationBefore);
     };
     double step = kRelaxFirstStep * length;
     for (int k = 0; k < kRelaxSteps; ++k, step *= 0.5) {
@@ -520,11 +513,15 @@ class SurfaceFit {
 
   /// Largest distance from the input's crease vertices whose closest remesh triangle is in v's
   /// fan to the fan (v at p); early stop as in assignedPointDeviation.
-  double creaseDeviation(SVH v, const Vec3& p,
-                         double stopAbove = std::numeric_limits<double>::infinity()) const {
+  double creaseDeviation(SVH v, const Vec3& p, double stopAbove) const {
+    return assignedPointDeviation(v, fanTriangles(v, p), true, stopAbove);
+  }
+
+  /// v's triangles with v at p, in the order of v.faces().
+  std::vector<std::array<Vec3, 3>> fanTriangles(SVH v, const Vec3& p) const {
     std::vector<std::array<Vec3, 3>> fan;
     for (const auto f : v.faces()) fan.push_back(facePositions(remesh_, f, v, p));
-    return assignedPointDeviation(v, fan, true, stopAbove);
+    return fan;
   }
 
   /// Local deviation between v's fan (v at p) and the input (see surface_fit.h). With
@@ -533,8 +530,7 @@ class SurfaceFit {
   /// above `stopAbove` once the deviation exceeds it (divisions = 1).
   double fanDeviation(SVH v, const Vec3& p, int divisions = 1,
                       double stopAbove = std::numeric_limits<double>::infinity()) const {
-    std::vector<std::array<Vec3, 3>> fan;
-    for (const auto f : v.faces()) fan.push_back(facePositions(remesh_, f, v, p));
+    const std::vector<std::array<Vec3, 3>> fan = fanTriangles(v, p);
     double deviation = assignedPointDeviation(v, fan, false, stopAbove);
     if (deviation > stopAbove) return deviation;
     // The moving parts of the fan: v, its triangles' centroids and the midpoints of v's edges.

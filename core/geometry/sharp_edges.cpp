@@ -1,6 +1,7 @@
 #include "core/geometry/sharp_edges.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <vector>
@@ -22,19 +23,26 @@ Eigen::Vector3d faceNormal(const TriMesh& mesh, OpenMesh::SmartFaceHandle f) {
 
 }  // namespace
 
-std::vector<bool> sharpEdges(const TriMesh& mesh, double minDihedralDegrees,
-                             double minLineLength) {
-  std::vector<bool> sharp(mesh.n_edges(), false);
-  if (!(minDihedralDegrees > 0.0)) return sharp;
-  const double maxCosine = std::cos(minDihedralDegrees * M_PI / 180.0);
+std::vector<double> dihedralAngles(const TriMesh& mesh) {
   std::vector<Eigen::Vector3d> normal(mesh.n_faces());
   for (const auto f : mesh.faces()) normal[f.idx()] = faceNormal(mesh, f);
+  std::vector<double> angle(mesh.n_edges(), 0.0);
   for (const auto e : mesh.edges()) {
     if (e.is_boundary()) continue;
     const Eigen::Vector3d& n0 = normal[e.h0().face().idx()];
     const Eigen::Vector3d& n1 = normal[e.h1().face().idx()];
-    sharp[e.idx()] = !n0.isZero() && !n1.isZero() && n0.dot(n1) <= maxCosine;
+    if (n0.isZero() || n1.isZero()) continue;
+    angle[e.idx()] = std::acos(std::clamp(n0.dot(n1), -1.0, 1.0)) * 180.0 / M_PI;
   }
+  return angle;
+}
+
+std::vector<bool> sharpEdges(const TriMesh& mesh, double minDihedralDegrees,
+                             double minLineLength) {
+  std::vector<bool> sharp(mesh.n_edges(), false);
+  if (!(minDihedralDegrees > 0.0)) return sharp;
+  const std::vector<double> dihedral = dihedralAngles(mesh);
+  for (const auto e : mesh.edges()) sharp[e.idx()] = dihedral[e.idx()] >= minDihedralDegrees;
   std::vector<int> sharpAt(mesh.n_vertices(), 0);
   for (const auto e : mesh.edges())
     if (sharp[e.idx()]) ++sharpAt[e.v0().idx()], ++sharpAt[e.v1().idx()];
