@@ -13,6 +13,7 @@
 #include <numeric>
 #include <set>
 #include <string>
+#include <type_traits>
 
 #include "core/common/error.h"
 #include "core/common/blas_threads.h"
@@ -502,7 +503,11 @@ class SpdSolver {
   template <typename Factorization>
   void run(Factorization& factorization, const SparseMatrix& a) {
     if (!analyzed_) {
-      factorization.analyzePattern(a);
+      // CHOLMOD orders the graph of the vertices, whose u and v columns stay together.
+      if constexpr (std::is_same_v<Factorization, CholmodSupernodalFactorization<SparseMatrix>>)
+        factorization.analyzePattern(a, blockFillReducingOrder(a, 2));
+      else
+        factorization.analyzePattern(a);
       analyzed_ = true;
     }
     factorization.factorize(a);
