@@ -2,11 +2,13 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "core/common/memory.h"
 #include "core/geometry/curvature.h"
 #include "core/mesh/repair.h"
+#include "core/mesh/topology.h"
 #include "core/param/hexcover.h"
 #include "core/param/texture.h"
 
@@ -113,14 +115,32 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   result.singularities = field.singularities;
   context.throwIfCanceled();
 
-  // 3 and 4. Parameterization and extraction; with a target vertex count, h is rescaled by
-  // sqrt(V / K) until the remesh is within 8% of K (the promise is 10%), at most 4 runs.
+  // 3 and 4. Parameterization and extraction, at most kMaxRuns times. With a target vertex count,
+  // h is rescaled by sqrt(V / K) until the remesh is within 8% of K (the promise is 10%). A remesh
+  // whose topology differs from the repaired input's (fold-overs that neither the
+  // parameterization nor the extraction's repair removed) is redone with h 3% smaller, where the
+  // lattice falls differently. The best run is kept: the input's topology first, then the
+  // vertex count closest to K.
   constexpr int kMaxRuns = 4;
   constexpr double kTolerance = 0.08;
-  Parameterization param;
+  constexpr double kTopologyRetryScale = 0.97;
+  const MeshTopology inputTopology = computeTopology(mesh);
   ExtractOptions extractOptions;
   extractOptions.balanceDeviation = options.placement == VertexPlacement::Balanced;
   extractOptions.creaseAngle = options.featureAngle;
+  struct Run {
+    Parameterization param;
+    Remesh remesh;
+    double edgeLength = 0.0;
+    bool topologyKept = false;
+    double countError = 0.0;  // |V − K| / K, 0 without a target count
+
+    bool betterThan(const Run& other) const {
+      if (topologyKept != other.topologyKept) return topologyKept;
+      return countError < other.countError;
+    }
+  };
+  std::optional<Run> best;
   for (int run = 1;; ++run) {
     auto start = Clock::now();
     ParamOptions paramOptions;
@@ -129,22 +149,29 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
     if (run == 1 && !options.edgeLength) paramOptions.targetVertices = static_cast<int>(target);
     else paramOptions.edgeLength = h;
     paramOptions.vertexSizing = sizing;
-    param = computeParameterization(mesh, field, paramOptions, context);
-    h = param.edgeLength;
+    Run current;
+    current.param = computeParameterization(mesh, field, paramOptions, context);
+    h = current.edgeLength = current.param.edgeLength;
     addTiming(result.timings, "parameterization", secondsSince(start));
     context.throwIfCanceled();
 
     start = Clock::now();
-    result.remesh = extractRemesh(mesh, param, extractOptions, context);
+    current.remesh = extractRemesh(mesh, current.param, extractOptions, context);
     addTiming(result.timings, "extraction", secondsSince(start));
-    result.edgeLength = h;
     result.sizeIterations = run;
-    const double vertices = static_cast<double>(result.remesh.triangles.n_vertices());
-    if (!options.targetVertices || run == kMaxRuns || vertices <= 0.0 ||
-        std::abs(vertices - static_cast<double>(target)) <= kTolerance * static_cast<double>(target))
-      break;
-    h *= std::sqrt(vertices / static_cast<double>(target));
+    current.topologyKept = computeTopology(current.remesh.triangles).sameAs(inputTopology);
+    const double vertices = static_cast<double>(current.remesh.triangles.n_vertices());
+    if (options.targetVertices)
+      current.countError = std::abs(vertices - static_cast<double>(target)) / static_cast<double>(target);
+    const bool rescale = current.countError > kTolerance && vertices > 0.0;
+    const bool done = current.topologyKept && !rescale;
+    if (!best || current.betterThan(*best)) best = std::move(current);
+    if (done || run == kMaxRuns) break;
+    h *= rescale ? std::sqrt(vertices / static_cast<double>(target)) : kTopologyRetryScale;
   }
+  Parameterization param = std::move(best->param);
+  result.remesh = std::move(best->remesh);
+  result.edgeLength = best->edgeLength;
   result.flippedParamTriangles = param.flippedTriangles;
   context.throwIfCanceled();
 

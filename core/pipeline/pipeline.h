@@ -53,7 +53,8 @@ struct RemeshResult {
   MeshReport inputReport;      ///< validation and repair of the input
   double edgeLength = 0.0;           ///< h used for the final parameterization (model units)
   double singularityDistance = 0.0;  ///< d_sing used by the field's clustering (model units)
-  int sizeIterations = 1;      ///< parameterization + extraction runs to meet targetVertices
+  int sizeIterations = 1;  ///< parameterization + extraction runs (to meet targetVertices and
+                           ///< to keep the input's topology)
   int flippedParamTriangles = 0;  ///< left in the final parameterization (see Parameterization)
   Remesh remesh;               ///< triangle mesh, hexagonal dual, extraction report
   PolygonSoup textured;        ///< the repaired input with per-corner texture coordinates
