@@ -91,6 +91,7 @@ nlohmann::json metricsDocument(const RemeshResult& result) {
                         {"smoothed_vertices", r.smoothedVertices},
                         {"relaxed_vertices", r.relaxedVertices},
                         {"balanced_vertices", r.balancedVertices},
+                        {"boundary_sliver_collapses", r.boundarySliverCollapses},
                         {"boundary_sliver_flips", r.boundarySliverFlips},
                         {"non_manifold_faces_dropped", r.nonManifoldFacesDropped}};
   return json;

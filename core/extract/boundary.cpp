@@ -451,4 +451,75 @@ long long flipBoundarySlivers(TriMesh& mesh, double belowDegrees) {
   return flips;
 }
 
+long long collapseBoundarySlivers(TriMesh& mesh, double belowDegrees, double straightWithin) {
+  constexpr int kPasses = 3;
+  const auto point = [&](OpenMesh::VertexHandle v) { return toEigen(mesh.point(v)); };
+  const auto smallestAngle = [&](OpenMesh::SmartFaceHandle f) {
+    return angleRange(facePositions(mesh, f, {}, {}))[0];
+  };
+  // A boundary vertex may move only along a boundary that runs straight through it.
+  const auto onStraightBoundary = [&](OpenMesh::SmartVertexHandle v) {
+    double interiorAngle = 0.0;
+    for (const auto h : v.incoming_halfedges()) {
+      if (h.is_boundary()) continue;
+      const Eigen::Vector3d in = point(h.from()) - point(v), out = point(h.next().to()) - point(v);
+      interiorAngle += std::atan2(in.cross(out).norm(), in.dot(out)) * 180.0 / M_PI;
+    }
+    return std::abs(interiorAngle - 180.0) <= straightWithin;
+  };
+  // The smallest angle of the triangles of h.from() once it moves onto h.to() (those on the
+  // edge disappear); -1 when one of them would turn by more than 60°.
+  const auto smallestAngleAfter = [&](OpenMesh::SmartHalfedgeHandle h) {
+    double after = 180.0;
+    for (const auto f : h.from().faces()) {
+      bool onEdge = false;
+      for (const auto w : f.vertices()) onEdge = onEdge || w == h.to();
+      if (onEdge) continue;
+      const auto moved = facePositions(mesh, f, h.from(), point(h.to()));
+      if (!(triangleNormal(facePositions(mesh, f, {}, {})).dot(triangleNormal(moved)) >
+            kMinNormalCosine))
+        return -1.0;
+      after = std::min(after, angleRange(moved)[0]);
+    }
+    return after;
+  };
+  mesh.request_vertex_status();
+  mesh.request_edge_status();
+  mesh.request_face_status();
+  long long collapses = 0;
+  for (int pass = 0; pass < kPasses; ++pass) {
+    long long passCollapses = 0;
+    for (const auto f : mesh.faces()) {
+      if (f.deleted() || !(smallestAngle(f) < belowDegrees)) continue;
+      bool atBoundary = false;
+      for (const auto v : f.vertices()) atBoundary = atBoundary || v.is_boundary();
+      if (!atBoundary) continue;
+      // Candidates: an edge of f collapsed either way, keeping the boundary on the boundary (an
+      // interior vertex onto any neighbour, a boundary vertex only along a boundary edge).
+      OpenMesh::SmartHalfedgeHandle best;
+      double bestGain = 0.0;
+      for (const auto edge : f.halfedges())
+        for (const auto h : {edge, edge.opp()}) {
+          const auto from = h.from();
+          if (from.is_boundary() && !(h.edge().is_boundary() && onStraightBoundary(from))) continue;
+          if (!mesh.is_collapse_ok(h)) continue;
+          double before = 180.0;
+          for (const auto g : from.faces()) before = std::min(before, smallestAngle(g));
+          const double gain = smallestAngleAfter(h) - before;
+          if (gain > bestGain) bestGain = gain, best = h;
+        }
+      if (!best.is_valid()) continue;
+      mesh.collapse(best);
+      ++passCollapses;
+    }
+    collapses += passCollapses;
+    if (passCollapses == 0) break;
+  }
+  mesh.garbage_collection();
+  mesh.release_vertex_status();
+  mesh.release_edge_status();
+  mesh.release_face_status();
+  return collapses;
+}
+
 }  // namespace hexcover::extract_detail

@@ -117,6 +117,16 @@ void alignFrontToLoop(const std::vector<double>& outerArc, std::vector<int>& fro
 /// Returns the number of flips.
 long long flipBoundarySlivers(TriMesh& mesh, double belowDegrees);
 
+/// Step 8, before the flips: a boundary vertex of `mesh` whose boundary runs straight (its
+/// triangles' angles sum to 180° ± `straightWithin`, so not a corner) and that has a triangle
+/// with an angle below `belowDegrees` is collapsed into the boundary neighbour for which the
+/// smallest angle of its remaining triangles is largest, when that is larger than before and no
+/// triangle turns by more than 60° (up to 3 passes). Where the input boundary curls in a lip
+/// narrower than an edge length, the strip fans from one lattice vertex to boundary samples
+/// almost in line with it; fewer samples make fewer slivers. Returns the number of collapses;
+/// garbage-collects `mesh`.
+long long collapseBoundarySlivers(TriMesh& mesh, double belowDegrees, double straightWithin);
+
 /// Closes a hole bounded by `loop` (a boundary loop of the triangles, triangles on its left):
 /// one triangle for 3 vertices, the shorter diagonal for 4, else a fan around a new vertex at the
 /// loop's centroid (appended to `positions`). Appends the triangles to `out`; returns how many.

@@ -1140,8 +1140,11 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
       report.relaxedVertices = counts.relaxed;
       report.balancedVertices = counts.balanced;
     }
-    if (options.sliverAngle > 0.0)
+    if (options.sliverAngle > 0.0) {
+      report.boundarySliverCollapses = collapseBoundarySlivers(
+          result.triangles, options.sliverAngle, options.sharpBoundaryAngle);
       report.boundarySliverFlips = flipBoundarySlivers(result.triangles, options.sliverAngle);
+    }
   }
   {
     ScopedTimer timer(report.timings, "hexagonal dual");

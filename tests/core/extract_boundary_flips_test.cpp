@@ -23,6 +23,14 @@ double smallestAngleDegrees(const std::vector<Eigen::Vector3d>& p, const std::ve
   return smallest;
 }
 
+double smallestAngle(const TriMesh& mesh) {
+  double angle = 180.0;
+  for (const auto f : mesh.faces())
+    angle = std::min(
+        angle, angleRange(facePositions(mesh, f, OpenMesh::VertexHandle(), Eigen::Vector3d::Zero()))[0]);
+  return angle;
+}
+
 // A flat rhombus 0-1-2-3 (long diagonal 0-2) split along its long diagonal: slivers of 15°;
 // the short diagonal gives 30°+.
 const std::vector<Eigen::Vector3d> kRhombus = {
@@ -54,22 +62,57 @@ TEST(BoundaryFlips, FlipBoundarySliversBelowTheFloorOnly) {
     mesh.add_face(v[0], v[2], v[3]);
     return mesh;
   };
-  const auto smallest = [](const TriMesh& mesh) {
-    double angle = 180.0;
-    for (const auto f : mesh.faces())
-      angle = std::min(
-          angle,
-          angleRange(facePositions(mesh, f, OpenMesh::VertexHandle(), Eigen::Vector3d::Zero()))[0]);
-    return angle;
-  };
   TriMesh thin = rhombusMesh(0.2679);  // tan 15°
-  ASSERT_NEAR(smallest(thin), 15.0, 0.01);
+  ASSERT_NEAR(smallestAngle(thin), 15.0, 0.01);
   EXPECT_EQ(flipBoundarySlivers(thin, 20.0), 1);
-  EXPECT_GT(smallest(thin), 29.9);
+  EXPECT_GT(smallestAngle(thin), 29.9);
   EXPECT_EQ(thin.n_faces(), 2u);
   TriMesh wide = rhombusMesh(0.4663);  // tan 25°
   EXPECT_EQ(flipBoundarySlivers(wide, 20.0), 0);
-  EXPECT_NEAR(smallest(wide), 25.0, 0.01);
+  EXPECT_NEAR(smallestAngle(wide), 25.0, 0.01);
+}
+
+// A flat 4 × 3 grid of unit squares (diagonals (x, y)-(x+1, y+1)) whose bottom boundary vertex
+// (1, 0) sits at (1.9, 0), 0.1 from its neighbour (2, 0): its triangles are slivers of 6°. The
+// vertex is collapsed along the straight boundary; the corner (0, 0), whose boundary turns by
+// 90°, is not, and a regular grid is left alone.
+TEST(BoundaryFlips, CollapsesABoundarySampleThatMakesSliversWhereTheBoundaryRunsStraight) {
+  const auto grid = [](double movedX) {
+    TriMesh mesh;
+    std::vector<TriMesh::VertexHandle> v;
+    for (int y = 0; y <= 3; ++y)
+      for (int x = 0; x <= 4; ++x)
+        v.push_back(mesh.add_vertex({y == 0 && x == 1 ? movedX : x, static_cast<double>(y), 0.0}));
+    for (int y = 0; y < 3; ++y)
+      for (int x = 0; x < 4; ++x) {
+        const auto at = [&](int dx, int dy) { return v[(y + dy) * 5 + x + dx]; };
+        mesh.add_face(at(0, 0), at(1, 0), at(1, 1));
+        mesh.add_face(at(0, 0), at(1, 1), at(0, 1));
+      }
+    return mesh;
+  };
+  TriMesh slivers = grid(1.9);
+  ASSERT_LT(smallestAngle(slivers), 6.0);
+  EXPECT_EQ(collapseBoundarySlivers(slivers, 20.0, 30.0), 1);
+  EXPECT_GT(smallestAngle(slivers), 20.0);
+  EXPECT_EQ(slivers.n_vertices(), 19u);
+  EXPECT_EQ(slivers.n_faces(), 23u) << "one boundary triangle less, still a disk";
+  int boundaryVertices = 0;
+  bool cornerKept = false;
+  for (const auto v : slivers.vertices()) {
+    if (!v.is_boundary()) continue;
+    ++boundaryVertices;
+    const auto p = slivers.point(v);
+    cornerKept = cornerKept || (p[0] == 0.0 && p[1] == 0.0);
+    EXPECT_TRUE(p[0] == 0.0 || p[0] == 4.0 || p[1] == 0.0 || p[1] == 3.0)
+        << "a boundary vertex left the boundary: (" << p[0] << ", " << p[1] << ")";
+  }
+  EXPECT_EQ(boundaryVertices, 13);
+  EXPECT_TRUE(cornerKept);
+
+  TriMesh regular = grid(1.0);
+  EXPECT_EQ(collapseBoundarySlivers(regular, 20.0, 30.0), 0);
+  EXPECT_EQ(regular.n_vertices(), 20u);
 }
 
 TEST(BoundaryFlips, NeverCreatesAnEdgeThatExistsElsewhereOrTouchesOtherTriangles) {
