@@ -998,9 +998,12 @@ void keepComponentsTooSmallForTheLattice(const TriMesh& mesh, const std::vector<
 
   std::vector<std::vector<Triangle>> remeshed(componentCount);
   for (const auto& t : out.triangles) remeshed[out.component[t[0]]].push_back(t);
+  // Fewer triangles than one hexagon's: the lattice is too coarse for the component (a single
+  // lattice triangle inside an input triangle of a soup left the rest of it uncovered).
+  constexpr std::size_t kMinRemeshedTriangles = 6;
   std::vector<bool> keep(componentCount, false);
   for (int c = 0; c < componentCount; ++c)
-    keep[c] = remeshed[c].empty() ||
+    keep[c] = remeshed[c].size() < kMinRemeshedTriangles ||
               (options.boundary == BoundaryMode::Follow &&
                !(soupTopology(remeshed[c], out.positions.size()) == inputTopology[c]));
   std::erase_if(out.triangles, [&](const Triangle& t) { return keep[out.component[t[0]]]; });

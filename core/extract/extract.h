@@ -29,9 +29,9 @@
 //    that every front vertex gets valence 6 (6 − a samples for a lattice edges), which keeps the
 //    irregular vertices at the singularities next to the boundary too; a sharp corner replaces
 //    the nearest sample within half a spacing.
-// 6. Components of the input on which no lattice triangle fits, or whose lattice triangles do
-//    not have the component's topology (Euler characteristic, boundary loops, one piece), are
-//    copied unchanged.
+// 6. Components of the input whose remesh has fewer triangles than one hexagon (6), or not the
+//    component's topology (Euler characteristic, boundary loops, one piece), are copied
+//    unchanged.
 // 7. Fit (surface_fit.h): vertices move over the input surface where the lattice cuts off a
 //    sharp crease or tip (feature snapping), next to poor triangles (smoothing) and where the
 //    angles stray from 60° (relaxation), when that does not raise the local deviation from the

@@ -94,6 +94,18 @@ TEST(PipelineRemesh, RedoesARemeshWhoseTopologyDiffersFromTheInput) {
   EXPECT_LE(result.metrics.angleMax, 130.0);
 }
 
+// trimesh's soup: 100 loose triangles of about one edge length each. On 10 of them the lattice
+// fits a single triangle, which left most of the input triangle uncovered (Hausdorff distance
+// 11.9%); fewer triangles than one hexagon's now keep the input triangle as it is.
+TEST(PipelineRemesh, CopiesComponentsTooSmallForOneHexagon) {
+  HEXCOVER_SHARED_MESH_OR_SKIP(path, "nasty/trimesh_soup.stl");
+  const RemeshResult result = remesh(readMesh(path), RemeshOptions{});
+  EXPECT_EQ(result.remesh.report.componentsKept, 100);
+  EXPECT_EQ(result.metrics.topology.components, 100);
+  ASSERT_TRUE(result.metrics.distance.has_value());
+  EXPECT_LT(result.metrics.distance->hausdorffPct, 1e-6);
+}
+
 TEST(PipelineRemesh, TubeKeepsItsTwoBoundaryLoopsOnTheInputBoundary) {
   const TriMesh tube = makeTube(0.5, 2.0, 64, 38);
   const RemeshResult result = remesh(toPolygonSoup(tube), quarterOf(tube.n_vertices()));
