@@ -28,7 +28,8 @@
 //    triangulated, so the output boundary lies on the input boundary. The samples are chosen so
 //    that every front vertex gets valence 6 (6 − a samples for a lattice edges), which keeps the
 //    irregular vertices at the singularities next to the boundary too; a sharp corner replaces
-//    the nearest sample within half a spacing.
+//    the nearest sample within half a spacing, and one turning by more than 80° with no sample
+//    that close gets a sample of its own (its front vertex then has valence 7).
 // 6. Components of the input whose remesh has fewer triangles than one hexagon (6), or not the
 //    component's topology (Euler characteristic, boundary loops, one piece), are copied
 //    unchanged.
