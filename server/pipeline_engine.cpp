@@ -122,6 +122,7 @@ JobOutcome PipelineEngine::run(const JobInput& input, const RunContext& context)
   metrics["edge_length"] = result.edgeLength;
   metrics["singularity_distance"] = result.singularityDistance;
   metrics["size_iterations"] = result.sizeIterations;
+  metrics["warnings"] = result.warnings;
   metrics["peak_memory_mib"] = result.peakMemoryMiB;
   outcome.metrics = std::move(metrics);
   return outcome;

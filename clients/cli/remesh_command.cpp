@@ -74,6 +74,7 @@ nlohmann::json metricsDocument(const RemeshResult& result) {
   json["peak_memory_mb"] = result.peakMemoryMiB;
   json["edge_length"] = result.edgeLength;
   json["singularity_distance"] = result.singularityDistance;
+  json["warnings"] = result.warnings;
   const ExtractionReport& r = result.remesh.report;
   json["extraction"] = {{"lattice_points", r.latticePoints},
                         {"lattice_triangles", r.latticeTriangles},
@@ -140,6 +141,7 @@ int runRemesh(int argc, char** argv) {
               << m.angleSd << "), irregular interior " << m.irregularInterior << ", Hausdorff "
               << (m.distance ? m.distance->hausdorffPct : 0.0) << "%, "
               << totalSeconds(result.timings) << " s\n";
+    for (const auto& warning : result.warnings) std::cerr << "warning: " << warning << "\n";
   }
   return 0;
 }

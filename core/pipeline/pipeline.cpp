@@ -2,8 +2,11 @@
 
 #include <chrono>
 #include <cmath>
+#include <iomanip>
 #include <optional>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "core/common/memory.h"
 #include "core/geometry/curvature.h"
@@ -53,6 +56,34 @@ void addTiming(Timings& timings, const std::string& step, double seconds) {
       return;
     }
   timings.push_back({step, seconds});
+}
+
+/// The result's warnings (RemeshResult::warnings); countError = |V − K| / K.
+std::vector<std::string> remeshWarnings(const RemeshResult& result, double countError,
+                                        const RemeshOptions& options) {
+  std::vector<std::string> warnings;
+  const long long copied = result.remesh.report.componentsKept;
+  if (copied > 0) {
+    std::ostringstream text;
+    text << copied << (copied == 1 ? " input component was" : " input components were")
+         << " copied unchanged: the lattice at edge length " << std::setprecision(3)
+         << result.edgeLength << " does not fit " << (copied == 1 ? "it" : "them")
+         << " (too small, or too thin for this vertex count); more vertices or a smaller edge "
+            "length remesh "
+         << (copied == 1 ? "it" : "them");
+    warnings.push_back(text.str());
+  }
+  if (result.flippedParamTriangles > 0)
+    warnings.push_back(std::to_string(result.flippedParamTriangles) +
+                       " parameter triangles stayed folded; the extraction filled the gaps, which "
+                       "puts irregular vertices away from the singularities there (another "
+                       "vertex count may avoid it)");
+  if (options.targetVertices && countError > 0.1)
+    warnings.push_back("the remesh has " +
+                       std::to_string(result.remesh.triangles.n_vertices()) +
+                       " vertices, more than 10% away from the " +
+                       std::to_string(*options.targetVertices) + " asked for");
+  return warnings;
 }
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
@@ -173,6 +204,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   result.remesh = std::move(best->remesh);
   result.edgeLength = best->edgeLength;
   result.flippedParamTriangles = param.flippedTriangles;
+  result.warnings = remeshWarnings(result, best->countError, options);
   context.throwIfCanceled();
 
   // Textured input and metrics.

@@ -5,6 +5,8 @@
 
 #include <cstddef>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "core/common/run_context.h"
 #include "core/common/timings.h"
@@ -62,6 +64,9 @@ struct RemeshResult {
   QualityReport metrics;       ///< the remesh measured against the repaired input
   Timings timings;             ///< per stage
   double peakMemoryMiB = 0.0;
+  /// What a user may want to act on, one sentence each: input components copied unchanged,
+  /// fold-overs the extraction had to fill, a vertex count more than 10% off the target.
+  std::vector<std::string> warnings;
 };
 
 /// Remeshes `input`. Throws Error: InvalidMesh/LimitExceeded for refused input, InvalidOption,

@@ -46,6 +46,7 @@ TEST(PipelineRemesh, IcosphereMeetsTheQualityFloors) {
   const PolygonSoup sphere = toPolygonSoup(makeIcosphere(4));
   const RemeshResult result = remesh(sphere, quarterOf(sphere.vertexCount()));
   expectQualityFloors(result, "icosphere(4)");
+  EXPECT_TRUE(result.warnings.empty()) << result.warnings.front();
 }
 
 // A regression guard: these shared meshes met every floor when it was written (fertility has
@@ -105,6 +106,9 @@ TEST(PipelineRemesh, CopiesComponentsTooSmallForOneHexagon) {
   EXPECT_EQ(result.metrics.topology.components, 100);
   ASSERT_TRUE(result.metrics.distance.has_value());
   EXPECT_LT(result.metrics.distance->hausdorffPct, 1e-6);
+  ASSERT_EQ(result.warnings.size(), 1u);
+  EXPECT_NE(result.warnings[0].find("100 input components were copied unchanged"), std::string::npos)
+      << result.warnings[0];
 }
 
 // A flat unit square at h = 0.1: the strip's samples fell more than half a spacing from two of
