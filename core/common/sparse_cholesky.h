@@ -41,6 +41,14 @@ inline std::vector<int> minimumDegreeOrder(int nodes,
   return {order.indices().data(), order.indices().data() + nodes};
 }
 
+/// A fill-reducing order of a symmetric matrix whose unknowns come in consecutive blocks of
+/// `blockSize` (the u and v of a vertex): CHOLMOD's choice (AMD, or METIS where AMD fills
+/// much) for the graph of the blocks, each block's unknowns kept together. Ordering the block
+/// graph instead of the whole matrix costs a fraction of the time (METIS on the 2V unknowns of
+/// a 1M-face mesh: 7 s; on its V vertices: 3 s) for the same fill where the blocks' unknowns
+/// share their neighbours.
+std::vector<int> blockFillReducingOrder(const Eigen::SparseMatrix<double>& a, int blockSize);
+
 /// Whether a system's rows are to be reordered before the factorization.
 enum class RowOrder {
   /// CHOLMOD's approximate minimum degree order (AMD). CHOLMOD's default also tries METIS when

@@ -41,14 +41,6 @@ class CholmodSupernodalFactorization : public Eigen::CholmodSupernodalLLT<Matrix
   const cholmod_factor* factor() const { return this->m_cholmodFactor; }
 };
 
-/// A fill-reducing order of a symmetric matrix whose unknowns come in consecutive blocks of
-/// `blockSize` (the u and v of a vertex): CHOLMOD's choice (AMD, or METIS where AMD fills
-/// much) for the graph of the blocks, each block's unknowns kept together. Ordering the block
-/// graph instead of the whole matrix costs a fraction of the time (METIS on the 2V unknowns of
-/// a 1M-face mesh: 7 s; on its V vertices: 3 s) for the same fill where the blocks' unknowns
-/// share their neighbours.
-std::vector<int> blockFillReducingOrder(const Eigen::SparseMatrix<double>& a, int blockSize);
-
 /// W = L⁻¹ P B (rows in the factor's order) for a real supernodal LLᵀ factor (as CHOLMOD's
 /// supernodal factorization computes it) and a sparse B with factor.n rows. Throws
 /// std::invalid_argument for another kind of factor or a B of the wrong size.

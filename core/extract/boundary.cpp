@@ -146,11 +146,11 @@ Eigen::Vector3d BoundaryIndex::pointAt(int i, double s) const {
 }
 
 std::vector<double> sharpCorners(const BoundaryIndex& index, int loop, double spacing,
-                                 double sharpAngleDeg) {
+                                 double sharpAngleDeg, std::vector<double>* turnDegrees) {
   const auto& points = index.loop(loop);
   const std::size_t n = points.size();
   const double total = index.loopLength(loop);
-  std::vector<double> corners;
+  std::vector<double> corners, turns;
   double arc = 0.0;
   const double cosSharp = std::cos(sharpAngleDeg * M_PI / 180.0);
   for (std::size_t k = 0; k < n; ++k) {
@@ -159,11 +159,18 @@ std::vector<double> sharpCorners(const BoundaryIndex& index, int loop, double sp
     // A corner closer than half a spacing to the previous one (a jagged input boundary) is
     // not kept: samples that close would make slivers.
     if (in.norm() > 0.0 && out.norm() > 0.0 && in.normalized().dot(out.normalized()) < cosSharp &&
-        (corners.empty() || arc - corners.back() >= 0.5 * spacing))
+        (corners.empty() || arc - corners.back() >= 0.5 * spacing)) {
       corners.push_back(arc);
+      turns.push_back(std::acos(std::clamp(in.normalized().dot(out.normalized()), -1.0, 1.0)) *
+                      180.0 / M_PI);
+    }
     arc += out.norm();
   }
-  if (corners.size() > 1 && corners.front() + total - corners.back() < 0.5 * spacing) corners.pop_back();
+  if (corners.size() > 1 && corners.front() + total - corners.back() < 0.5 * spacing) {
+    corners.pop_back();
+    turns.pop_back();
+  }
+  if (turnDegrees) *turnDegrees = std::move(turns);
   return corners;
 }
 
@@ -460,28 +467,10 @@ long long collapseBoundarySlivers(TriMesh& mesh, double belowDegrees, double str
   // A boundary vertex may move only along a boundary that runs straight through it.
   const auto onStraightBoundary = [&](OpenMesh::SmartVertexHandle v) {
     double interiorAngle = 0.0;
-    for (const auto h : v.incoming_halfedges()) {
-      if (h.is_boundary()) continue;
-      const Eigen::Vector3d in = point(h.from()) - point(v), out = point(h.next().to()) - point(v);
-      interiorAngle += std::atan2(in.cross(out).norm(), in.dot(out)) * 180.0 / M_PI;
-    }
+    for (const auto h : v.incoming_halfedges())
+      if (!h.is_boundary())
+        interiorAngle += angleAt(point(v), point(h.from()), point(h.next().to()));
     return std::abs(interiorAngle - 180.0) <= straightWithin;
-  };
-  // The smallest angle of the triangles of h.from() once it moves onto h.to() (those on the
-  // edge disappear); -1 when one of them would turn by more than 60°.
-  const auto smallestAngleAfter = [&](OpenMesh::SmartHalfedgeHandle h) {
-    double after = 180.0;
-    for (const auto f : h.from().faces()) {
-      bool onEdge = false;
-      for (const auto w : f.vertices()) onEdge = onEdge || w == h.to();
-      if (onEdge) continue;
-      const auto moved = facePositions(mesh, f, h.from(), point(h.to()));
-      if (!(triangleNormal(facePositions(mesh, f, {}, {})).dot(triangleNormal(moved)) >
-            kMinNormalCosine))
-        return -1.0;
-      after = std::min(after, angleRange(moved)[0]);
-    }
-    return after;
   };
   mesh.request_vertex_status();
   mesh.request_edge_status();
@@ -505,7 +494,8 @@ long long collapseBoundarySlivers(TriMesh& mesh, double belowDegrees, double str
           if (!mesh.is_collapse_ok(h)) continue;
           double before = 180.0;
           for (const auto g : from.faces()) before = std::min(before, smallestAngle(g));
-          const double gain = smallestAngleAfter(h) - before;
+          // from's remaining triangles once it sits on h.to() (0 when one turns too far).
+          const double gain = fanAngleRange(mesh, from, point(h.to()), h.to())[0] - before;
           if (gain > bestGain) bestGain = gain, best = h;
         }
       if (!best.is_valid()) continue;

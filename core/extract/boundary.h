@@ -57,9 +57,10 @@ class BoundaryIndex {
 
 /// Arc-length positions (ascending in [0, loopLength)) of the points of input boundary loop `loop`
 /// where its polyline turns by more than `sharpAngleDeg` (sharp corners), skipping a corner within
-/// half a `spacing` of the previous one.
+/// half a `spacing` of the previous one. `turnDegrees` (optional): per corner, by how much the
+/// polyline turns there.
 std::vector<double> sharpCorners(const BoundaryIndex& index, int loop, double spacing,
-                                 double sharpAngleDeg);
+                                 double sharpAngleDeg, std::vector<double>* turnDegrees = nullptr);
 
 /// Arc-length positions of the samples that replace input boundary loop `loop`: about one per
 /// `spacing`, always including the points whose polyline turns by more than `sharpAngleDeg`

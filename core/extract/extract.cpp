@@ -36,7 +36,8 @@ void ExtractOptions::validate() const {
     throw Error(ErrorCode::InvalidOption,
                 "creaseAngle must be in [0, 180] degrees, got " + std::to_string(creaseAngle));
   if (threads < 1)
-    throw Error(ErrorCode::InvalidOption, "threads must be at least 1, got " + std::to_string(threads));
+    throw Error(ErrorCode::InvalidOption,
+                "threads must be at least 1, got " + std::to_string(threads));
 }
 
 namespace {
@@ -607,14 +608,15 @@ bool stitchFrontByValence(const BoundaryIndex& index, int loop, int component,
   std::vector<bool> corner(m, false);
   std::vector<double> shift(m, 0.0);
   // Corners in loop order from arc[0], each on the nearest sample after the previous corner's.
-  std::vector<double> corners, ownSample;
-  for (const double c : sharpCorners(index, loop, spacing, options.sharpBoundaryAngle))
-    corners.push_back(arc[0] + wrapped(c - arc[0]));
-  for (const double c : sharpCorners(index, loop, spacing, kOwnSampleCornerAngle))
-    ownSample.push_back(arc[0] + wrapped(c - arc[0]));
+  std::vector<double> turns;
+  const std::vector<double> cornerArcs =
+      sharpCorners(index, loop, spacing, options.sharpBoundaryAngle, &turns);
+  std::vector<std::pair<double, double>> corners;  // (unwrapped arc, degrees the loop turns)
+  for (std::size_t c = 0; c < cornerArcs.size(); ++c)
+    corners.emplace_back(arc[0] + wrapped(cornerArcs[c] - arc[0]), turns[c]);
   std::sort(corners.begin(), corners.end());
   int next = 0;
-  for (const double at : corners) {
+  for (const auto& [at, turn] : corners) {
     int nearest = next;
     for (int k = next + 1; k < m; ++k)
       if (std::abs(arc[k] - at) < std::abs(arc[nearest] - at)) nearest = k;
@@ -628,10 +630,7 @@ bool stitchFrontByValence(const BoundaryIndex& index, int loop, int component,
     // gets a sample of its own, in the fan of the front vertex whose samples bracket it, which
     // then has valence 7 (a square plate at h = 0.1 lost two of its corners: 3.2% Hausdorff
     // distance); a blunter one is not resolved at this edge length.
-    const bool own = std::any_of(ownSample.begin(), ownSample.end(), [&](double c) {
-      return std::abs(c - at) <= 1e-12 * length;
-    });
-    if (!own) continue;
+    if (!(turn > kOwnSampleCornerAngle)) continue;
     const int atIndex = static_cast<int>(
         std::upper_bound(arc.begin() + std::max(next, 1), arc.begin() + m, at) - arc.begin());
     arc.insert(arc.begin() + atIndex, at);

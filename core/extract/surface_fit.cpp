@@ -362,7 +362,8 @@ class SurfaceFit {
       taken.assign(classes.size(), 0);
       for (const auto w : v.vertices())
         if (colour[w.idx()] >= 0) taken[colour[w.idx()]] = 1;
-      const auto c = static_cast<std::size_t>(std::find(taken.begin(), taken.end(), 0) - taken.begin());
+      const auto c =
+          static_cast<std::size_t>(std::find(taken.begin(), taken.end(), 0) - taken.begin());
       if (c == classes.size()) classes.emplace_back();
       colour[v.idx()] = static_cast<int>(c);
       classes[c].push_back(v.idx());
@@ -398,7 +399,9 @@ class SurfaceFit {
       if (!before) before = measure(current, std::numeric_limits<double>::infinity());
       return *before > limit && measure(p, *before) <= *before;
     };
-    const auto deviationAt = [&](const Vec3& p, double stop) { return fanDeviation(v, p, 1, stop); };
+    const auto deviationAt = [&](const Vec3& p, double stop) {
+      return fanDeviation(v, p, 1, stop);
+    };
     const auto creaseDeviationAt = [&](const Vec3& p, double stop) {
       return creaseDeviation(v, p, stop);
     };
@@ -565,9 +568,8 @@ class SurfaceFit {
 }  // namespace
 
 SurfaceFitCounts fitRemeshToSurface(const TriMesh& input, const ClosestPointQuery& inputQuery,
-                                    TriMesh& remesh, double featureSnapDistance,
-                                    double creaseAngle, bool balanceDeviation, int threads,
-                                    int rounds) {
+                                    TriMesh& remesh, double featureSnapDistance, double creaseAngle,
+                                    bool balanceDeviation, int threads, int rounds) {
   SurfaceFitCounts counts;
   if (input.n_faces() == 0 || remesh.n_faces() == 0) return counts;
   SurfaceFit fit(input, inputQuery, remesh, creaseAngle, threads);

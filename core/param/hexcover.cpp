@@ -7,16 +7,17 @@
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <array>
-#include <functional>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <numeric>
 #include <set>
 #include <string>
 #include <type_traits>
 
-#include "core/common/error.h"
 #include "core/common/blas_threads.h"
+#include "core/common/error.h"
+#include "core/common/sparse_cholesky.h"
 #include "core/common/sparse_forward_solve.h"
 #include "core/param/conformal_scale.h"
 #include "core/param/cut_graph.h"

@@ -79,8 +79,7 @@ std::vector<std::string> remeshWarnings(const RemeshResult& result, double count
                        "puts irregular vertices away from the singularities there (another "
                        "vertex count may avoid it)");
   if (options.targetVertices && countError > 0.1)
-    warnings.push_back("the remesh has " +
-                       std::to_string(result.remesh.triangles.n_vertices()) +
+    warnings.push_back("the remesh has " + std::to_string(result.remesh.triangles.n_vertices()) +
                        " vertices, more than 10% away from the " +
                        std::to_string(*options.targetVertices) + " asked for");
   return warnings;
@@ -162,7 +161,6 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   struct Run {
     Parameterization param;
     Remesh remesh;
-    double edgeLength = 0.0;
     bool topologyKept = false;
     double countError = 0.0;  // |V − K| / K, 0 without a target count
 
@@ -182,7 +180,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
     paramOptions.vertexSizing = sizing;
     Run current;
     current.param = computeParameterization(mesh, field, paramOptions, context);
-    h = current.edgeLength = current.param.edgeLength;
+    h = current.param.edgeLength;
     addTiming(result.timings, "parameterization", secondsSince(start));
     context.throwIfCanceled();
 
@@ -193,7 +191,8 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
     current.topologyKept = computeTopology(current.remesh.triangles).sameAs(inputTopology);
     const double vertices = static_cast<double>(current.remesh.triangles.n_vertices());
     if (options.targetVertices)
-      current.countError = std::abs(vertices - static_cast<double>(target)) / static_cast<double>(target);
+      current.countError =
+          std::abs(vertices - static_cast<double>(target)) / static_cast<double>(target);
     const bool rescale = current.countError > kTolerance && vertices > 0.0;
     const bool done = current.topologyKept && !rescale;
     if (!best || current.betterThan(*best)) best = std::move(current);
@@ -202,7 +201,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   }
   Parameterization param = std::move(best->param);
   result.remesh = std::move(best->remesh);
-  result.edgeLength = best->edgeLength;
+  result.edgeLength = param.edgeLength;
   result.flippedParamTriangles = param.flippedTriangles;
   result.warnings = remeshWarnings(result, best->countError, options);
   context.throwIfCanceled();

@@ -26,8 +26,8 @@ double smallestAngleDegrees(const std::vector<Eigen::Vector3d>& p, const std::ve
 double smallestAngle(const TriMesh& mesh) {
   double angle = 180.0;
   for (const auto f : mesh.faces())
-    angle = std::min(
-        angle, angleRange(facePositions(mesh, f, OpenMesh::VertexHandle(), Eigen::Vector3d::Zero()))[0]);
+    angle = std::min(angle, angleRange(facePositions(mesh, f, OpenMesh::VertexHandle(),
+                                                     Eigen::Vector3d::Zero()))[0]);
   return angle;
 }
 

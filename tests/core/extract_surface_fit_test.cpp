@@ -92,8 +92,9 @@ TEST(SurfaceFit, SnapsVerticesOntoASharpRidgeThatTheCoarseMeshCutsOff) {
   ASSERT_GT(cutOff, 0.1) << "the coarse mesh should miss the ridge";
 
   TriMesh withoutCreases = remesh;
-  const SurfaceFitCounts counts = fitRemeshToSurface(input, ClosestPointQuery(input), remesh, 0.1,
-                                                     kDefaultFeatureAngle, /*balanceDeviation=*/false);
+  const SurfaceFitCounts counts =
+      fitRemeshToSurface(input, ClosestPointQuery(input), remesh, 0.1, kDefaultFeatureAngle,
+                         /*balanceDeviation=*/false);
   EXPECT_GT(counts.snapped, 0);
   EXPECT_LT(largestDistance(ridge, remesh), 0.5 * cutOff);
   // Without crease vertices, relaxation evens out the angles at the ridge's expense (within
@@ -150,11 +151,14 @@ TEST(SurfaceFit, MeasuresTheSnapThresholdAgainstTheMeanEdgeLengthWhereTrianglesA
   TriMesh alone = liftedGridOnTheRoof(false);
   const double cutOff = largestDistance(ridge, alone);
   ASSERT_LT(cutOff, 0.45) << "the ridge should be within the threshold of the coarse grid alone";
-  EXPECT_EQ(fitRemeshToSurface(input, ClosestPointQuery(input), alone, 0.45, kDefaultFeatureAngle, false).snapped, 0);
+  EXPECT_EQ(
+      fitRemeshToSurface(input, ClosestPointQuery(input), alone, 0.45, kDefaultFeatureAngle, false)
+          .snapped,
+      0);
 
   TriMesh withFine = liftedGridOnTheRoof(true);
-  const SurfaceFitCounts counts =
-      fitRemeshToSurface(input, ClosestPointQuery(input), withFine, 0.45, kDefaultFeatureAngle, false);
+  const SurfaceFitCounts counts = fitRemeshToSurface(input, ClosestPointQuery(input), withFine,
+                                                     0.45, kDefaultFeatureAngle, false);
   EXPECT_GT(counts.snapped, 0);
   EXPECT_LT(largestDistance(ridge, withFine), 0.5 * cutOff);
 }
@@ -264,7 +268,8 @@ TEST(SurfaceFit, RelaxesAJitteredGridInItsPlane) {
   const double before = angleSd(remesh);
   ASSERT_GT(before, 8.0);
 
-  const SurfaceFitCounts counts = fitRemeshToSurface(input, ClosestPointQuery(input), remesh, 0.35, kDefaultFeatureAngle);
+  const SurfaceFitCounts counts =
+      fitRemeshToSurface(input, ClosestPointQuery(input), remesh, 0.35, kDefaultFeatureAngle);
   EXPECT_EQ(counts.snapped, 0) << "the grid has no feature";
   EXPECT_GT(counts.relaxed, 0);
   EXPECT_LT(angleSd(remesh), 0.7 * before);
@@ -294,7 +299,8 @@ TEST(SurfaceFit, OnlyRelaxesAMeshThatMatchesTheInput) {
   const TriMesh input = makeIcosphere(3);
   TriMesh remesh = input;
   const ClosestPointQuery onInput(input);
-  const SurfaceFitCounts counts = fitRemeshToSurface(input, onInput, remesh, 0.35, kDefaultFeatureAngle);
+  const SurfaceFitCounts counts =
+      fitRemeshToSurface(input, onInput, remesh, 0.35, kDefaultFeatureAngle);
   EXPECT_EQ(counts.snapped, 0);
   EXPECT_EQ(counts.smoothed, 0);
   EXPECT_LE(angleSd(remesh), angleSd(input));
@@ -314,12 +320,15 @@ TEST(SurfaceFit, BalancesACoarseSphereAboutTheInputSurface) {
   const double sdBefore = angleSd(remesh);
 
   TriMesh unbalanced = remesh;
-  EXPECT_EQ(fitRemeshToSurface(input, onInput, unbalanced, 0.35, kDefaultFeatureAngle, false).balanced, 0);
+  EXPECT_EQ(
+      fitRemeshToSurface(input, onInput, unbalanced, 0.35, kDefaultFeatureAngle, false).balanced,
+      0);
   EXPECT_NEAR(twoSidedDistance(input, unbalanced).hausdorff(), before.hausdorff(),
               1e-3 * before.hausdorff())
       << "without balancing nothing moves off the sphere";
 
-  const SurfaceFitCounts counts = fitRemeshToSurface(input, onInput, remesh, 0.35, kDefaultFeatureAngle);
+  const SurfaceFitCounts counts =
+      fitRemeshToSurface(input, onInput, remesh, 0.35, kDefaultFeatureAngle);
   EXPECT_GE(counts.balanced, 42);
   const TwoSidedDistance after = twoSidedDistance(input, remesh);
   EXPECT_LT(after.hausdorff(), 0.65 * before.hausdorff());

@@ -68,8 +68,7 @@ TEST_P(PipelineFloorMesh, KeepsMeetingTheQualityFloors) {
 INSTANTIATE_TEST_SUITE_P(Clean, PipelineFloorMesh,
                          ::testing::Values("camelhead.off", "fandisk.obj", "feline.off",
                                            "fertility_28k.obj", "icosphere.obj",
-                                           "max-planck_decimated.obj",
-                                           "rocker-arm.obj",
+                                           "max-planck_decimated.obj", "rocker-arm.obj",
                                            "schwarzp_cell_open.obj", "stanford-bunny.obj",
                                            "torus.off"),
                          [](const auto& info) {
@@ -107,7 +106,8 @@ TEST(PipelineRemesh, CopiesComponentsTooSmallForOneHexagon) {
   ASSERT_TRUE(result.metrics.distance.has_value());
   EXPECT_LT(result.metrics.distance->hausdorffPct, 1e-6);
   ASSERT_EQ(result.warnings.size(), 1u);
-  EXPECT_NE(result.warnings[0].find("100 input components were copied unchanged"), std::string::npos)
+  EXPECT_NE(result.warnings[0].find("100 input components were copied unchanged"),
+            std::string::npos)
       << result.warnings[0];
 }
 
@@ -131,7 +131,8 @@ TEST(PipelineRemesh, KeepsEveryCornerOfASquarePlate) {
   for (const Eigen::Vector3d corner : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0),
                                        Eigen::Vector3d(1, 1, 0), Eigen::Vector3d(0, 1, 0)}) {
     double nearest = 1e300;
-    for (const auto v : out.vertices()) nearest = std::min(nearest, (toEigen(out.point(v)) - corner).norm());
+    for (const auto v : out.vertices())
+      nearest = std::min(nearest, (toEigen(out.point(v)) - corner).norm());
     EXPECT_LT(nearest, 1e-9) << "corner (" << corner.x() << ", " << corner.y() << ")";
   }
   ASSERT_TRUE(result.metrics.distance.has_value());
