@@ -505,7 +505,7 @@ long long collapseBoundarySlivers(TriMesh& mesh, double belowDegrees, double str
     collapses += passCollapses;
     if (passCollapses == 0) break;
   }
-  mesh.garbage_collection();
+  if (collapses > 0) mesh.garbage_collection();
   mesh.release_vertex_status();
   mesh.release_edge_status();
   mesh.release_face_status();

@@ -125,7 +125,7 @@ long long flipBoundarySlivers(TriMesh& mesh, double belowDegrees);
 /// triangle turns by more than 60° (up to 3 passes). Where the input boundary curls in a lip
 /// narrower than an edge length, the strip fans from one lattice vertex to boundary samples
 /// almost in line with it; fewer samples make fewer slivers. Returns the number of collapses;
-/// garbage-collects `mesh`.
+/// garbage-collects `mesh` after any.
 long long collapseBoundarySlivers(TriMesh& mesh, double belowDegrees, double straightWithin);
 
 /// Closes a hole bounded by `loop` (a boundary loop of the triangles, triangles on its left):
