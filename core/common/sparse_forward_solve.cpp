@@ -4,55 +4,67 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/common/concurrency.h"
+
 namespace hexcover {
+namespace {
 
-Eigen::SparseMatrix<double> supernodalForwardSolve(const cholmod_factor& factor,
-                                                   const Eigen::SparseMatrix<double>& b) {
-  if (!factor.is_super || !factor.is_ll || factor.xtype != CHOLMOD_REAL ||
-      factor.itype != CHOLMOD_INT || factor.dtype != CHOLMOD_DOUBLE)
-    throw std::invalid_argument("supernodalForwardSolve: needs a real supernodal LL' factor");
-  const int n = static_cast<int>(factor.n);
-  if (b.rows() != n)
-    throw std::invalid_argument("supernodalForwardSolve: the right-hand side has the wrong size");
-  const int supernodes = static_cast<int>(factor.nsuper);
-  const int* firstColumn = static_cast<const int*>(factor.super);  // supernode s: columns
-  const int* rowStart = static_cast<const int*>(factor.pi);        // [first[s], first[s + 1])
-  const int* valueStart = static_cast<const int*>(factor.px);
-  const int* rowIndex = static_cast<const int*>(factor.s);
-  const double* value = static_cast<const double*>(factor.x);
-  const int* perm = static_cast<const int*>(factor.Perm);  // position k holds row perm[k]
-
-  std::vector<int> position(n), supernodeOf(n), parent(supernodes, -1);
-  for (int k = 0; k < n; ++k) position[perm ? perm[k] : k] = k;
-  for (int s = 0; s < supernodes; ++s) {
-    for (int k = firstColumn[s]; k < firstColumn[s + 1]; ++k) supernodeOf[k] = s;
-  }
-  for (int s = 0; s < supernodes; ++s) {  // the supernode of the first row below the diagonal block
-    const int columns = firstColumn[s + 1] - firstColumn[s];
-    if (rowStart[s + 1] - rowStart[s] > columns)
-      parent[s] = supernodeOf[rowIndex[rowStart[s] + columns]];
+/// The supernodal factor as arrays, and each supernode's parent in the elimination tree.
+struct SupernodalFactor {
+  explicit SupernodalFactor(const cholmod_factor& factor)
+      : n(static_cast<int>(factor.n)),
+        supernodes(static_cast<int>(factor.nsuper)),
+        firstColumn(static_cast<const int*>(factor.super)),
+        rowStart(static_cast<const int*>(factor.pi)),
+        valueStart(static_cast<const int*>(factor.px)),
+        rowIndex(static_cast<const int*>(factor.s)),
+        value(static_cast<const double*>(factor.x)),
+        position(n),
+        supernodeOf(n),
+        parent(supernodes, -1) {
+    const int* perm = static_cast<const int*>(factor.Perm);  // position k holds row perm[k]
+    for (int k = 0; k < n; ++k) position[perm ? perm[k] : k] = k;
+    for (int s = 0; s < supernodes; ++s)
+      for (int k = firstColumn[s]; k < firstColumn[s + 1]; ++k) supernodeOf[k] = s;
+    for (int s = 0; s < supernodes; ++s) {  // the supernode of the first row below the diagonal
+      const int columns = firstColumn[s + 1] - firstColumn[s];
+      if (rowStart[s + 1] - rowStart[s] > columns)
+        parent[s] = supernodeOf[rowIndex[rowStart[s] + columns]];
+    }
   }
 
-  std::vector<double> work(n, 0.0);
-  std::vector<char> inReach(supernodes, 0);
+  int n, supernodes;
+  const int* firstColumn;  // supernode s: columns [firstColumn[s], firstColumn[s + 1])
+  const int* rowStart;     // its rows rowIndex[rowStart[s] .. rowStart[s + 1])
+  const int* valueStart;
+  const int* rowIndex;
+  const double* value;
+  std::vector<int> position, supernodeOf, parent;
+};
+
+/// Solves the columns [begin, end) of B into triplets of W (Gilbert–Peierls on supernodes: only
+/// the supernodes on the elimination-tree paths from a column's rows to the root).
+void forwardSolveColumns(const SupernodalFactor& l, const Eigen::SparseMatrix<double>& b, int begin,
+                         int end, std::vector<Eigen::Triplet<double>>& triplets) {
+  std::vector<double> work(l.n, 0.0);
+  std::vector<char> inReach(l.supernodes, 0);
   std::vector<int> reach;
-  std::vector<Eigen::Triplet<double>> triplets;
-  for (int j = 0; j < b.cols(); ++j) {
+  for (int j = begin; j < end; ++j) {
     reach.clear();
     for (Eigen::SparseMatrix<double>::InnerIterator it(b, j); it; ++it) {
-      const int k = position[it.row()];
+      const int k = l.position[it.row()];
       work[k] += it.value();
-      for (int s = supernodeOf[k]; s >= 0 && !inReach[s]; s = parent[s]) {
+      for (int s = l.supernodeOf[k]; s >= 0 && !inReach[s]; s = l.parent[s]) {
         inReach[s] = 1;
         reach.push_back(s);
       }
     }
     std::sort(reach.begin(), reach.end());  // a parent's index exceeds its children's
     for (const int s : reach) {
-      const int first = firstColumn[s], columns = firstColumn[s + 1] - first;
-      const int rows = rowStart[s + 1] - rowStart[s];
-      const int* row = rowIndex + rowStart[s];      // row[c] = first + c for c < columns
-      const double* block = value + valueStart[s];  // column-major, leading dimension `rows`
+      const int first = l.firstColumn[s], columns = l.firstColumn[s + 1] - first;
+      const int rows = l.rowStart[s + 1] - l.rowStart[s];
+      const int* row = l.rowIndex + l.rowStart[s];      // row[c] = first + c for c < columns
+      const double* block = l.value + l.valueStart[s];  // column-major, leading dimension `rows`
       for (int c = 0; c < columns; ++c) {  // x_c = (b_c − Σ_{c' < c} L(c, c') x_c') / L(c, c)
         const double x = work[first + c] / block[c + c * rows];
         work[first + c] = x;
@@ -61,16 +73,43 @@ Eigen::SparseMatrix<double> supernodalForwardSolve(const cholmod_factor& factor,
       }
     }
     for (const int s : reach) {  // every row that was written belongs to a supernode of the reach
-      for (int k = firstColumn[s]; k < firstColumn[s + 1]; ++k) {
+      for (int k = l.firstColumn[s]; k < l.firstColumn[s + 1]; ++k) {
         if (work[k] != 0.0) triplets.emplace_back(k, j, work[k]);
         work[k] = 0.0;
       }
       inReach[s] = 0;
     }
   }
-  Eigen::SparseMatrix<double> w(n, b.cols());
-  w.setFromTriplets(triplets.begin(), triplets.end());
-  return w;
+}
+
+}  // namespace
+
+Eigen::SparseMatrix<double> supernodalForwardSolve(const cholmod_factor& factor,
+                                                   const Eigen::SparseMatrix<double>& b,
+                                                   int threads) {
+  if (!factor.is_super || !factor.is_ll || factor.xtype != CHOLMOD_REAL ||
+      factor.itype != CHOLMOD_INT || factor.dtype != CHOLMOD_DOUBLE)
+    throw std::invalid_argument("supernodalForwardSolve: needs a real supernodal LL' factor");
+  if (b.rows() != static_cast<Eigen::Index>(factor.n))
+    throw std::invalid_argument("supernodalForwardSolve: the right-hand side has the wrong size");
+  const SupernodalFactor l(factor);
+  // Each worker solves a contiguous range of columns into its own triplets, with its own
+  // workspace; columns are independent, so W does not depend on the split.
+  const int columns = static_cast<int>(b.cols());
+  const int workers = std::clamp(threads, 1, std::max(1, columns));
+  std::vector<std::vector<Eigen::Triplet<double>>> triplets(workers);
+  parallelFor(
+      workers, workers,
+      [&](std::size_t w) {
+        forwardSolveColumns(l, b, static_cast<int>(columns * w / workers),
+                            static_cast<int>(columns * (w + 1) / workers), triplets[w]);
+      },
+      1);
+  for (std::size_t w = 1; w < triplets.size(); ++w)
+    triplets[0].insert(triplets[0].end(), triplets[w].begin(), triplets[w].end());
+  Eigen::SparseMatrix<double> result(l.n, b.cols());
+  result.setFromTriplets(triplets[0].begin(), triplets[0].end());
+  return result;
 }
 
 }  // namespace hexcover

@@ -42,9 +42,11 @@ class CholmodSupernodalFactorization : public Eigen::CholmodSupernodalLLT<Matrix
 };
 
 /// W = L⁻¹ P B (rows in the factor's order) for a real supernodal LLᵀ factor (as CHOLMOD's
-/// supernodal factorization computes it) and a sparse B with factor.n rows. Throws
-/// std::invalid_argument for another kind of factor or a B of the wrong size.
+/// supernodal factorization computes it) and a sparse B with factor.n rows, on up to `threads`
+/// threads (the same W for any count). Throws std::invalid_argument for another kind of factor
+/// or a B of the wrong size.
 Eigen::SparseMatrix<double> supernodalForwardSolve(const cholmod_factor& factor,
-                                                   const Eigen::SparseMatrix<double>& b);
+                                                   const Eigen::SparseMatrix<double>& b,
+                                                   int threads = 1);
 
 }  // namespace hexcover

@@ -17,6 +17,7 @@
 
 #include "core/common/blas_threads.h"
 #include "core/common/error.h"
+#include "core/common/normal_equations.h"
 #include "core/common/sparse_cholesky.h"
 #include "core/common/sparse_forward_solve.h"
 #include "core/param/conformal_scale.h"
@@ -531,18 +532,18 @@ class SpdSolver {
 // greedy rounding step and the final solve cost back-substitutions instead of factorizations.
 class EnergySystem {
  public:
-  EnergySystem(const LeastSquares& ls, int realCount, LinearSolver kind)
-      : ls_(ls), realCount_(realCount), solver_(kind) {}
+  EnergySystem(const LeastSquares& ls, int realCount, LinearSolver kind, int threads)
+      : ls_(ls),
+        normal_(ls.gradient, rowGroups(ls)),
+        realCount_(realCount),
+        threads_(threads),
+        solver_(kind) {}
 
   /// Assembles and factorizes the system for the face weights (#F, > 0); with
   /// `integersFree` also the Schur complement that solveIntegers needs.
   void setFaceWeights(const Eigen::VectorXd& faceWeight, bool integersFree) {
     const Eigen::VectorXd rowWeight = rowWeights(faceWeight);
-    SparseMatrix weighted = ls_.gradient;  // rows scaled by sqrt(weight), pattern kept
-    for (int col = 0; col < weighted.outerSize(); ++col)
-      for (SparseMatrix::InnerIterator it(weighted, col); it; ++it)
-        it.valueRef() *= std::sqrt(rowWeight[it.row()]);
-    const SparseMatrix a = SparseMatrix(weighted.transpose()) * weighted;
+    const SparseMatrix a = normal_.assemble(rowWeight);
     const Eigen::VectorXd b = ls_.gradient.transpose() * rowWeight.cwiseProduct(ls_.target);
     const int r = realCount_, k = static_cast<int>(a.cols()) - realCount_;
     ari_ = a.topRightCorner(r, k);
@@ -562,7 +563,7 @@ class EnergySystem {
     if (const cholmod_factor* factor = solver_.supernodalFactor()) {
       // A_ir A_rr⁻¹ A_ri = Wᵀ W with W = L⁻¹ P A_ri, sparse because A_ri is (the integer unknowns
       // touch only the vertices around cuts and singularities).
-      const SparseMatrix w = supernodalForwardSolve(*factor, ari_);
+      const SparseMatrix w = supernodalForwardSolve(*factor, ari_, threads_);
       schur_ -= Eigen::MatrixXd(SparseMatrix(w.transpose()) * w);
       return;
     }
@@ -690,8 +691,21 @@ class EnergySystem {
     return w;
   }
 
+  /// The least squares' row groups for the normal equations: each face's rows, then each
+  /// crease edge's.
+  static std::vector<int> rowGroups(const LeastSquares& ls) {
+    std::vector<int> start;
+    const int faceRows = kRowsPerFace * static_cast<int>(ls.faceArea.size());
+    for (int row = 0; row < faceRows; row += kRowsPerFace) start.push_back(row);
+    for (int row = faceRows; row < ls.target.size(); row += kRowsPerCrease) start.push_back(row);
+    if (start.empty()) start.push_back(0);
+    return start;
+  }
+
   const LeastSquares& ls_;
+  NormalEquations normal_;  // AᵀWA for the face weights of each solve
   int realCount_;
+  int threads_;  ///< of the forward solve
   SpdSolver solver_;
   SparseMatrix ari_;       // A_ri
   Eigen::VectorXd z_;      // A_rr⁻¹ b_r
@@ -1044,6 +1058,7 @@ void ParamOptions::validate() const {
     fail("conformal weight must be a finite number ≥ 0");
   if (!(std::isfinite(creaseWeight) && creaseWeight >= 0.0))
     fail("crease weight must be a finite number ≥ 0");
+  if (threads < 1) fail("threads must be at least 1, got " + std::to_string(threads));
 }
 
 FieldOptions parameterizationFieldOptions(int n, double edgeLength, double singularityDistance,
@@ -1194,7 +1209,7 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
 
   const int columns = unknowns.columns();
   const int realCount = unknowns.realCount;
-  EnergySystem system(ls, realCount, options.solver);
+  EnergySystem system(ls, realCount, options.solver, options.threads);
   Eigen::VectorXd faceWeight = Eigen::VectorXd::Ones(mesh.n_faces());
   Eigen::VectorXd x;
   {

@@ -1,6 +1,6 @@
-// The sparse solvers of core/common: Cholesky with a shared elimination order, and the
-// supernodal forward solve with sparse right-hand sides behind the parameterization's Schur
-// complement.
+// The sparse solvers of core/common: Cholesky with a shared elimination order, the supernodal
+// forward solve with sparse right-hand sides behind the parameterization's Schur complement, and
+// the normal equations of its least squares.
 
 #include <gtest/gtest.h>
 
@@ -10,6 +10,7 @@
 #include <cmath>
 #include <vector>
 
+#include "core/common/normal_equations.h"
 #include "core/common/sparse_cholesky.h"
 #include "core/common/sparse_forward_solve.h"
 
@@ -107,6 +108,50 @@ TEST(SupernodalForwardSolve, GivesTheSchurComplementAndStaysSparse) {
   EXPECT_LT((schur - expected).cwiseAbs().maxCoeff(), 1e-9 * expected.cwiseAbs().maxCoeff());
   // Only the elimination-tree paths are touched: far fewer than n entries per column.
   EXPECT_LT(w.nonZeros(), static_cast<Eigen::Index>(columns) * n / 4);
+
+  // The columns split between threads: the same W, to the last bit.
+  for (const int threads : {2, 3, 16}) {
+    const SparseMatrix split = supernodalForwardSolve(*cholesky.factor(), b, threads);
+    ASSERT_EQ(split.nonZeros(), w.nonZeros()) << threads << " threads";
+    EXPECT_EQ(Eigen::MatrixXd(split), Eigen::MatrixXd(w)) << threads << " threads";
+  }
+}
+
+TEST(NormalEquations, EqualTheWeightedProductToTheLastBitForEveryWeighting) {
+  // Groups of 1-6 rows over a few of 50 columns each (a face's rows over its corners' unknowns),
+  // one empty row, and rows that reach other groups' columns.
+  const int columns = 50;
+  std::vector<Eigen::Triplet<double>> triplets;
+  std::vector<int> groupStart;
+  int row = 0;
+  for (int g = 0; g < 40; ++g) {
+    groupStart.push_back(row);
+    const int size = 1 + g % 6;
+    for (int r = 0; r < size; ++r, ++row)
+      for (int k = 0; k < 3 + (r + g) % 4; ++k)
+        if (g != 7 || r != 0)  // row 0 of group 7 stays empty
+          triplets.emplace_back(row, (g * 7 + k * (3 + r) + (k == 3 ? 23 : 0)) % columns,
+                                std::sin(1.0 + row * 0.37 + k * 1.3));
+  }
+  SparseMatrix a(row, columns);
+  a.setFromTriplets(triplets.begin(), triplets.end());
+  const NormalEquations normal(a, groupStart);
+  for (int weighting = 0; weighting < 2; ++weighting) {
+    Eigen::VectorXd weight(row);
+    for (int r = 0; r < row; ++r) weight[r] = weighting == 0 ? 1.0 : 0.1 + (r % 5) * 0.7;
+    SparseMatrix scaled = a;
+    for (int col = 0; col < scaled.outerSize(); ++col)
+      for (SparseMatrix::InnerIterator it(scaled, col); it; ++it)
+        it.valueRef() *= std::sqrt(weight[it.row()]);
+    const SparseMatrix expected = SparseMatrix(scaled.transpose()) * scaled;
+    const SparseMatrix assembled = normal.assemble(weight);
+    ASSERT_EQ(assembled.nonZeros(), expected.nonZeros());
+    for (int col = 0; col < columns; ++col)
+      for (SparseMatrix::InnerIterator it(expected, col); it; ++it)
+        EXPECT_EQ(assembled.coeff(it.row(), col), it.value()) << it.row() << ", " << col;
+  }
+  EXPECT_THROW(normal.assemble(Eigen::VectorXd::Ones(row + 1)), std::invalid_argument);
+  EXPECT_THROW(NormalEquations(a, {1, 5}), std::invalid_argument);
 }
 
 /// a ⊗ [[2, 0.5], [0.5, 1]]: two unknowns per node, coupled at each node and along each edge,

@@ -1,0 +1,96 @@
+#include "core/common/normal_equations.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace hexcover {
+namespace {
+
+/// The distinct columns of rows [begin, end) of a row-major matrix, in `columns` (sorted).
+void groupColumns(const Eigen::SparseMatrix<double, Eigen::RowMajor>& rows, int begin, int end,
+                  std::vector<int>& columns) {
+  columns.clear();
+  for (int r = begin; r < end; ++r)
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(rows, r); it; ++it)
+      columns.push_back(static_cast<int>(it.col()));
+  std::sort(columns.begin(), columns.end());
+  columns.erase(std::unique(columns.begin(), columns.end()), columns.end());
+}
+
+}  // namespace
+
+NormalEquations::NormalEquations(const Eigen::SparseMatrix<double>& a,
+                                 const std::vector<int>& groupStart)
+    : rows_(a), groupStart_(groupStart) {
+  groupStart_.push_back(static_cast<int>(a.rows()));
+  if (groupStart_.front() != 0 || !std::is_sorted(groupStart_.begin(), groupStart_.end()))
+    throw std::invalid_argument("NormalEquations: groups must start at row 0 and increase");
+  // The pattern of AᵀA: column c meets every column of every row that c has a nonzero in.
+  const int n = static_cast<int>(a.cols());
+  std::vector<int> mark(n, -1), outerStart(n + 1, 0), inner;
+  for (int c = 0; c < n; ++c) {
+    const std::size_t first = inner.size();
+    for (Eigen::SparseMatrix<double>::InnerIterator row(a, c); row; ++row)
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(rows_, row.row()); it;
+           ++it)
+        if (mark[it.col()] != c) {
+          mark[it.col()] = c;
+          inner.push_back(static_cast<int>(it.col()));
+        }
+    std::sort(inner.begin() + static_cast<std::ptrdiff_t>(first), inner.end());
+    outerStart[c + 1] = static_cast<int>(inner.size());
+  }
+  pattern_.resize(n, n);
+  pattern_.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
+  std::copy(outerStart.begin(), outerStart.end(), pattern_.outerIndexPtr());
+  std::copy(inner.begin(), inner.end(), pattern_.innerIndexPtr());
+  std::fill(pattern_.valuePtr(), pattern_.valuePtr() + inner.size(), 0.0);
+}
+
+Eigen::SparseMatrix<double> NormalEquations::assemble(const Eigen::VectorXd& rowWeight) const {
+  if (rowWeight.size() != rows_.rows())
+    throw std::invalid_argument("NormalEquations: one weight per row is needed");
+  Eigen::SparseMatrix<double> result = pattern_;
+  double* value = result.valuePtr();
+  const int* outer = result.outerIndexPtr();
+  const int* inner = result.innerIndexPtr();
+  std::vector<int> columns, position, local;
+  std::vector<double> scaled;
+  const int groups = static_cast<int>(groupStart_.size()) - 1;
+  for (int g = 0; g < groups; ++g) {
+    const int begin = groupStart_[g], end = groupStart_[g + 1];
+    groupColumns(rows_, begin, end, columns);
+    const int m = static_cast<int>(columns.size());
+    // position[p·m + q]: where entry (columns[p], columns[q]) of the result is stored, looked
+    // up when a row first needs it (two columns of a group need not share a row).
+    position.assign(static_cast<std::size_t>(m) * m, -1);
+    const auto at = [&](int p, int q) {
+      int& index = position[static_cast<std::size_t>(p) * m + q];
+      if (index < 0)
+        index = static_cast<int>(
+            std::lower_bound(inner + outer[columns[q]], inner + outer[columns[q] + 1], columns[p]) -
+            inner);
+      return index;
+    };
+    // Row by row, each entry summed over the rows in increasing order: the same sums, to the
+    // last bit, as the product (√W A)ᵀ(√W A).
+    for (int r = begin; r < end; ++r) {
+      local.clear();
+      scaled.clear();
+      const double scale = std::sqrt(rowWeight[r]);
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(rows_, r); it; ++it) {
+        local.push_back(static_cast<int>(
+            std::lower_bound(columns.begin(), columns.end(), static_cast<int>(it.col())) -
+            columns.begin()));
+        scaled.push_back(it.value() * scale);
+      }
+      for (std::size_t a = 0; a < local.size(); ++a)
+        for (std::size_t b = 0; b < local.size(); ++b)
+          value[at(local[a], local[b])] += scaled[a] * scaled[b];
+    }
+  }
+  return result;
+}
+
+}  // namespace hexcover
