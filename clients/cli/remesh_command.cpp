@@ -88,6 +88,7 @@ nlohmann::json metricsDocument(const RemeshResult& result) {
                         {"holes_filled", r.holesFilled},
                         {"unmatched_boundary_loops", r.unmatchedBoundaryLoops},
                         {"components_kept", r.componentsKept},
+                        {"components_kept_for_topology", r.componentsKeptForTopology},
                         {"feature_snaps", r.featureSnaps},
                         {"smoothed_vertices", r.smoothedVertices},
                         {"relaxed_vertices", r.relaxedVertices},

@@ -39,13 +39,17 @@ std::vector<std::vector<int>> traceBoundaryLoops(const std::vector<Triangle>& tr
       if (!apex.count(edgeKey(t[(k + 1) % 3], t[k]))) boundaryEdges.push_back({t[k], t[(k + 1) % 3]});
 
   // The boundary edge that follows (u, v): rotate about v through the fan of (u, v)'s triangle.
-  const auto nextEdge = [&](int u, int v) {
+  // A set that breaks the precondition (a directed edge in two triangles) can make the rotation
+  // cycle without reaching a boundary edge: after as many steps as there are triangles, there is
+  // none, and the loop ends there.
+  const auto nextEdge = [&](int u, int v) -> std::optional<std::array<int, 2>> {
     int w = apex.at(edgeKey(u, v));
-    for (;;) {
+    for (std::size_t step = 0; step < triangles.size(); ++step) {
       const auto across = apex.find(edgeKey(w, v));
       if (across == apex.end()) return std::array<int, 2>{v, w};
       w = across->second;
     }
+    return std::nullopt;
   };
 
   std::unordered_map<std::uint64_t, bool> used;
@@ -54,11 +58,11 @@ std::vector<std::vector<int>> traceBoundaryLoops(const std::vector<Triangle>& tr
   for (const auto& start : boundaryEdges) {
     if (used.count(edgeKey(start[0], start[1]))) continue;
     std::vector<int> loop;
-    std::array<int, 2> edge = start;
-    while (!used.count(edgeKey(edge[0], edge[1]))) {
-      used.emplace(edgeKey(edge[0], edge[1]), true);
-      loop.push_back(edge[0]);
-      edge = nextEdge(edge[0], edge[1]);
+    std::optional<std::array<int, 2>> edge = start;
+    while (edge && !used.count(edgeKey((*edge)[0], (*edge)[1]))) {
+      used.emplace(edgeKey((*edge)[0], (*edge)[1]), true);
+      loop.push_back((*edge)[0]);
+      edge = nextEdge((*edge)[0], (*edge)[1]);
     }
     loops.push_back(std::move(loop));
   }

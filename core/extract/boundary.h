@@ -20,7 +20,8 @@ using Triangle = std::array<int, 3>;
 /// Closed boundary loops of a triangle set in which every directed edge belongs to at most one
 /// triangle. Each loop lists its vertices in the triangles' direction (triangles on the left);
 /// at a vertex where several fans meet, each loop stays in the fan it arrived in. Deterministic:
-/// loops start at the first boundary edge in triangle order.
+/// loops start at the first boundary edge in triangle order. A set that reuses a directed edge
+/// may give open stretches instead of loops, but the trace ends.
 std::vector<std::vector<int>> traceBoundaryLoops(const std::vector<Triangle>& triangles);
 
 /// The input surface's boundary loops as polylines, with a uniform grid for nearest-point queries.

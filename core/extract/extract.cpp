@@ -945,6 +945,9 @@ void repairNonManifold(Assembly& out, ExtractionReport& report) {
     for (const auto& loop : traceBoundaryLoops(out.triangles)) fillGap(loop, out, added, report);
     out.triangles.insert(out.triangles.end(), added.begin(), added.end());
   }
+  // The passes ran out: the last fills may reuse a directed edge, which the boundary traces that
+  // follow cannot take; such triangles go (buildMesh refuses what is still non-manifold).
+  dropDegenerateAndOverlapping(out.triangles, report);
 }
 
 /// Euler characteristic, boundary loops and connected pieces of a triangle set (vertex indices
@@ -990,7 +993,7 @@ SoupTopology soupTopology(const std::vector<Triangle>& triangles, std::size_t ve
 /// Step 6: an input component is copied unchanged when no lattice triangle fits on it, or (Follow
 /// mode) when its lattice triangles do not have its topology (Euler characteristic, boundary
 /// loops, one piece): a component too small for the lattice, or one whose remesh would close a
-/// hole.
+/// hole (counted apart: the pipeline redoes such a run on another lattice).
 void keepComponentsTooSmallForTheLattice(const TriMesh& mesh, const std::vector<int>& faceComponent,
                                          int componentCount, const ExtractOptions& options,
                                          Assembly& out, ExtractionReport& report) {
@@ -1022,10 +1025,14 @@ void keepComponentsTooSmallForTheLattice(const TriMesh& mesh, const std::vector<
   // lattice triangle inside an input triangle of a soup left the rest of it uncovered).
   constexpr std::size_t kMinRemeshedTriangles = 6;
   std::vector<bool> keep(componentCount, false);
-  for (int c = 0; c < componentCount; ++c)
-    keep[c] = remeshed[c].size() < kMinRemeshedTriangles ||
-              (options.boundary == BoundaryMode::Follow &&
-               !(soupTopology(remeshed[c], out.positions.size()) == inputTopology[c]));
+  for (int c = 0; c < componentCount; ++c) {
+    const bool tooFew = remeshed[c].size() < kMinRemeshedTriangles;
+    const bool otherTopology =
+        !tooFew && options.boundary == BoundaryMode::Follow &&
+        !(soupTopology(remeshed[c], out.positions.size()) == inputTopology[c]);
+    keep[c] = tooFew || otherTopology;
+    report.componentsKeptForTopology += otherTopology ? 1 : 0;
+  }
   std::erase_if(out.triangles, [&](const Triangle& t) { return keep[out.component[t[0]]]; });
   std::vector<int> copy(mesh.n_vertices(), -1);
   for (const auto f : mesh.faces()) {

@@ -114,6 +114,9 @@ struct ExtractionReport {
   long long holeTriangles = 0;         ///< triangles added to close them
   long long unmatchedBoundaryLoops = 0;  ///< input boundary loops without a single lattice front
   long long componentsKept = 0;  ///< input components too small for the lattice (step 6), copied
+  /// Of those, components with lattice triangles enough whose triangles did not have the
+  /// component's topology (BoundaryMode::Follow): another lattice (edge length) may fit.
+  long long componentsKeptForTopology = 0;
   long long featureSnaps = 0;          ///< vertices moved onto a sharp feature of the input
   long long smoothedVertices = 0;      ///< vertex moves that opened up poor triangles
   long long relaxedVertices = 0;       ///< relaxation moves (angles nearer 60°)

@@ -188,12 +188,16 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
     current.remesh = extractRemesh(mesh, current.param, extractOptions, context);
     addTiming(result.timings, "extraction", secondsSince(start));
     result.sizeIterations = run;
-    current.topologyKept = computeTopology(current.remesh.triangles).sameAs(inputTopology);
+    // A component copied because its lattice triangles had another topology counts as a
+    // topology miss, and its vertices do not measure h: the next run takes the topology step.
+    const bool copiedForTopology = current.remesh.report.componentsKeptForTopology > 0;
+    current.topologyKept =
+        !copiedForTopology && computeTopology(current.remesh.triangles).sameAs(inputTopology);
     const double vertices = static_cast<double>(current.remesh.triangles.n_vertices());
     if (options.targetVertices)
       current.countError =
           std::abs(vertices - static_cast<double>(target)) / static_cast<double>(target);
-    const bool rescale = current.countError > kTolerance && vertices > 0.0;
+    const bool rescale = current.countError > kTolerance && vertices > 0.0 && !copiedForTopology;
     const bool done = current.topologyKept && !rescale;
     if (!best || current.betterThan(*best)) best = std::move(current);
     if (done || run == kMaxRuns) break;

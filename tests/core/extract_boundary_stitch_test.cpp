@@ -1,15 +1,42 @@
 // The strip between a lattice front and the samples of an input boundary loop
-// (core/extract/boundary.h, stitchStrip).
+// (core/extract/boundary.h, stitchStrip), and the boundary loops of a triangle set.
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "core/extract/boundary.h"
 #include "core/extract/fan_geometry.h"
 
 namespace hexcover::extract_detail {
 namespace {
+
+// A closed fan of three triangles around vertex 0 and a fourth triangle (4, 0, 1) that reuses
+// the fan's directed edge 0 → 1: the rotation about 0 from the boundary edge 4 → 0 enters the
+// closed fan and never meets a boundary edge. The trace stops there (it used to loop forever: a remesh
+// job that hung when the extraction's repair left such a triangle).
+TEST(BoundaryLoops, EndWhereARotationCyclesInATriangleSetThatReusesADirectedEdge) {
+  const std::vector<Triangle> triangles = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}, {4, 0, 1}};
+  const auto loops = traceBoundaryLoops(triangles);
+  ASSERT_FALSE(loops.empty());
+  for (const auto& loop : loops) {
+    ASSERT_FALSE(loop.empty());
+    std::vector<int> sorted = loop;
+    std::sort(sorted.begin(), sorted.end());
+    EXPECT_EQ(std::adjacent_find(sorted.begin(), sorted.end()), sorted.end()) << "repeated vertex";
+  }
+}
+
+// Where every directed edge is used once, each boundary edge is in exactly one loop: a 2 × 1
+// strip of squares split into four triangles has one loop through its six vertices.
+TEST(BoundaryLoops, FollowTheBoundaryOfAStripOnce) {
+  const std::vector<Triangle> triangles = {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}};
+  const auto loops = traceBoundaryLoops(triangles);
+  ASSERT_EQ(loops.size(), 1u);
+  EXPECT_EQ(loops[0].size(), 6u);
+}
 
 // A flat disc of radius 10 bounded by a circle sampled about once per unit. The lattice front
 // runs 1.35 spacings inside the circle for half the loop, then steps to 0.5 spacings within half

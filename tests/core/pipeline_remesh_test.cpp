@@ -95,6 +95,23 @@ TEST(PipelineRemesh, RedoesARemeshWhoseTopologyDiffersFromTheInput) {
   EXPECT_LE(result.metrics.angleMax, 130.0);
 }
 
+// The Stanford bunny at an eighth of its vertices: the first lattice splits a piece off the
+// surface, so its triangles lack the component's topology and the component was copied. The
+// copy's 34,834 vertices then read as a count 8 times too high: h grew by √8 a run, and on the
+// third run the coarse lattice's repair left a directed edge in two triangles, on which the
+// boundary trace never ended (the job hung). A copy for topology now takes the topology step.
+TEST(PipelineRemesh, RedoesARunWhoseComponentWasCopiedForItsTopology) {
+  HEXCOVER_SHARED_MESH_OR_SKIP(path, "clean/stanford-bunny.obj");
+  RemeshOptions options;
+  options.targetVertices = 4354;
+  const RemeshResult result = remesh(readMesh(path), options);
+  EXPECT_GT(result.sizeIterations, 1);
+  EXPECT_EQ(result.remesh.report.componentsKept, 0);
+  EXPECT_TRUE(result.metrics.topologyMatchesReference.value_or(false));
+  EXPECT_NEAR(static_cast<double>(result.remesh.triangles.n_vertices()), 4354.0, 0.1 * 4354.0);
+  EXPECT_TRUE(result.warnings.empty()) << result.warnings.front();
+}
+
 // trimesh's soup: 100 loose triangles of about one edge length each. On 10 of them the lattice
 // fits a single triangle, which left most of the input triangle uncovered (Hausdorff distance
 // 11.9%); fewer triangles than one hexagon's now keep the input triangle as it is.
