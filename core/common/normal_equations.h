@@ -5,8 +5,9 @@
 // A generic sparse product (√W A)ᵀ(√W A) finds the pattern again for each W and merges the
 // rows' contributions through a dense column mask. Here the pattern (columns that share a row)
 // is found once, and an assembly adds each row's outer product where it belongs, looking the
-// places up once per group of rows: the same values to the last bit, and on the
-// parameterization's 6 rows per face 3-5x faster than the product after the first assembly.
+// places up once per group of rows: the same values to the last bit. On the parameterization of
+// a 1.1M-face mesh (6 rows per face): 1.3 s for the pattern, then 1.0-1.5 s per assembly,
+// against 4.1-4.4 s per product.
 #include <Eigen/SparseCore>
 #include <vector>
 
