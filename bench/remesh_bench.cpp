@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "core/common/error.h"
+#include "core/common/memory.h"
 #include "core/mesh/io.h"
 #include "core/pipeline/pipeline.h"
 
@@ -76,6 +77,7 @@ PolygonSoup subdivided(const PolygonSoup& soup) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  hexcover::keepFreedMemoryForReuse();  // as the command line and the server do
   int runs = 5;
   std::string only;
   bool quarterOnly = false;

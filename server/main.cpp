@@ -14,6 +14,7 @@
 #include <iostream>
 #include <thread>
 
+#include "core/common/memory.h"
 #include "server/config.h"
 #include "server/health_probe.h"
 #include "server/http_server.h"
@@ -43,6 +44,8 @@ int main(int argc, char** argv) {
   // Each worker runs one job; linear algebra libraries must not start threads of their own.
   for (const char* variable : {"OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"})
     setenv(variable, "1", 0);
+  // Freed memory stays for the next allocations of a job; each job hands it back at its end.
+  hexcover::keepFreedMemoryForReuse();
 
   // Block the termination signals in every thread; this one takes them with sigwait.
   sigset_t signals;

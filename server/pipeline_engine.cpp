@@ -7,6 +7,7 @@
 #include "api/mesh_report_json.h"
 #include "api/metrics_json.h"
 #include "api/options_json.h"
+#include "core/common/memory.h"
 #include "core/mesh/io.h"
 #include "core/mesh/validate.h"
 #include "core/pipeline/pipeline.h"
@@ -83,6 +84,11 @@ std::string PipelineEngine::detectFormat(std::string_view head) const {
 }
 
 JobOutcome PipelineEngine::run(const JobInput& input, const RunContext& context) const {
+  // The job's free memory goes back to the kernel when it ends, however it ends (the server
+  // keeps freed memory for reuse within a job: core/common/memory.h).
+  struct ReleaseFreedMemoryAtEnd {
+    ~ReleaseFreedMemoryAtEnd() { releaseFreedMemory(); }
+  } const releaseAtEnd;
   const RunContext progress = jobProgress(context);
   const RemeshOptions options = api::remeshOptionsFromJson(input.options);
   progress.report("reading", 0.0);

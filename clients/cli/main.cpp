@@ -7,6 +7,7 @@
 #include "clients/cli/arguments.h"
 #include "clients/cli/commands.h"
 #include "core/common/error.h"
+#include "core/common/memory.h"
 
 namespace hexcover::cli {
 namespace {
@@ -55,6 +56,7 @@ int printUsage(std::ostream& out) {
 
 int main(int argc, char** argv) {
   using namespace hexcover::cli;
+  hexcover::keepFreedMemoryForReuse();
   if (argc < 2) return printUsage(std::cerr);
   const std::string_view name = argv[1];
   if (name == "--help" || name == "-h" || name == "help") {

@@ -24,6 +24,9 @@ class NormalEquations {
   /// AᵀWA (both triangles) for W = diag(rowWeight) (#rows of A).
   Eigen::SparseMatrix<double> assemble(const Eigen::VectorXd& rowWeight) const;
 
+  /// The pattern of AᵀA (both triangles), every stored value 0: that of every assembly.
+  const Eigen::SparseMatrix<double>& pattern() const { return pattern_; }
+
  private:
   Eigen::SparseMatrix<double, Eigen::RowMajor> rows_;  ///< A, row by row
   std::vector<int> groupStart_;                        ///< with rows_.rows() appended

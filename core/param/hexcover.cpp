@@ -11,11 +11,13 @@
 #include <functional>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <set>
 #include <string>
 #include <type_traits>
 
 #include "core/common/blas_threads.h"
+#include "core/common/concurrency.h"
 #include "core/common/error.h"
 #include "core/common/normal_equations.h"
 #include "core/common/sparse_cholesky.h"
@@ -335,18 +337,21 @@ struct LeastSquares {
 // straining the whole map.
 struct CreaseEdge {
   int wedgeFrom = -1, wedgeTo = -1;
+  int face = -1;           // the face it is seen from
+  double length = 0.0;     // on the surface
   Eigen::Vector2d across;  // ℓ
-  double weight = 0.0;
+  double weight = 0.0;     // of its rows: the crease weight times its length in lattice units
 };
 
 // Crease edges further than this from a lattice direction in their face's chart are left free.
 constexpr double kCreaseAngleTolerance = 10.0 * M_PI / 180.0;
 constexpr int kRowsPerCrease = 3;
 
-// The crease edges of the field's sharp edges, each seen from both of its faces.
+// The crease edges of the field's sharp edges, each seen from both of its faces (weights 0 until
+// setLatticeScale).
 std::vector<CreaseEdge> findCreases(const TriMesh& mesh, const CutMesh& cm,
                                     const FaceGeometry& geometry, const RosyField& field,
-                                    const std::vector<double>& faceScale, double weight) {
+                                    double weight) {
   std::vector<CreaseEdge> creases;
   if (field.sharpEdges.empty() || !(weight > 0.0)) return creases;
   const int n = field.n;
@@ -374,16 +379,17 @@ std::vector<CreaseEdge> findCreases(const TriMesh& mesh, const CutMesh& cm,
       CreaseEdge crease;
       crease.wedgeFrom = cm.halfedgeWedge[h.prev().idx()];
       crease.wedgeTo = cm.halfedgeWedge[h.idx()];
+      crease.face = f;
+      crease.length = d.norm();
       crease.across = toLattice.transpose() * acrossInLattice[k];
-      crease.weight = weight * d.norm() * faceScale[f];  // length in lattice units
       creases.push_back(crease);
     }
   }
   return creases;
 }
 
-// The rows of the creases after the face rows `faceRows`: their triplets, and their weights in
-// ls.rowWeight (the line rows weigh 0 until setCreaseTargets).
+// The rows of the creases after the face rows `faceRows`: their triplets (their weights in
+// ls.rowWeight stay 0 until setLatticeScale and setCreaseTargets).
 void addCreaseRows(const Unknowns& u, const std::vector<CreaseEdge>& creases, int faceRows,
                    std::vector<Triplet>& triplets, LeastSquares& ls) {
   ls.rowWeight = Eigen::VectorXd::Zero(kRowsPerCrease * static_cast<int>(creases.size()));
@@ -399,7 +405,6 @@ void addCreaseRows(const Unknowns& u, const std::vector<CreaseEdge>& creases, in
     add(first, crease.wedgeFrom, -1.0);
     add(first + 1, crease.wedgeFrom, 1.0);
     add(first + 2, crease.wedgeTo, 1.0);
-    ls.rowWeight[kRowsPerCrease * i] = crease.weight;
   }
 }
 
@@ -427,10 +432,12 @@ void setCreaseTargets(const Unknowns& u, const std::vector<CreaseEdge>& creases,
   }
 }
 
-// The rows of energy (4) and the anisotropy of every face (see above), then the crease rows.
+// The rows of energy (4) and the anisotropy of every face (see above), then the crease rows;
+// the targets and the crease weights, which depend on the lattice scale, are 0 until
+// setLatticeScale. The matrix does not depend on the scale.
 LeastSquares buildLeastSquares(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
-                               const FaceGeometry& geometry, const std::vector<double>& faceScale,
-                               double conformalWeight, const std::vector<CreaseEdge>& creases) {
+                               const FaceGeometry& geometry, double conformalWeight,
+                               const std::vector<CreaseEdge>& creases) {
   const int nF = static_cast<int>(mesh.n_faces());
   const int rows = kRowsPerFace * nF + kRowsPerCrease * static_cast<int>(creases.size());
   const double rootWeight = std::sqrt(conformalWeight);
@@ -444,7 +451,6 @@ LeastSquares buildLeastSquares(const TriMesh& mesh, const CutMesh& cm, const Unk
     if (!(geometry.area[f] > 0.0)) continue;
     ls.faceArea[f] = geometry.area[f];
     const int row = kRowsPerFace * f;
-    ls.target[row] = ls.target[row + 3] = faceScale[f];
     int c = 0;
     for (const auto h : mesh.fh_range(fh)) {
       const auto& rows = u.wedgeRows[cm.halfedgeWedge[h.idx()]];
@@ -470,6 +476,19 @@ LeastSquares buildLeastSquares(const TriMesh& mesh, const CutMesh& cm, const Unk
   return ls;
 }
 
+// The targets (σ_f, 0, 0, σ_f) of energy (4), σ_f = faceScale[f] (lattice units per surface
+// length), and the crease weights (their lengths in lattice units).
+void setLatticeScale(const std::vector<double>& faceScale, double creaseWeight,
+                     std::vector<CreaseEdge>& creases, LeastSquares& ls) {
+  for (int f = 0; f < static_cast<int>(faceScale.size()); ++f)
+    if (ls.faceArea[f] > 0.0) ls.target[kRowsPerFace * f] = ls.target[kRowsPerFace * f + 3] = faceScale[f];
+  for (std::size_t i = 0; i < creases.size(); ++i) {
+    CreaseEdge& crease = creases[i];
+    crease.weight = creaseWeight * crease.length * faceScale[crease.face];
+    ls.rowWeight[kRowsPerCrease * i] = crease.weight;
+  }
+}
+
 // A sparse symmetric positive definite factorization that keeps its symbolic analysis across
 // refactorizations with the same pattern (new face weights only change values).
 class SpdSolver {
@@ -477,6 +496,13 @@ class SpdSolver {
   explicit SpdSolver(LinearSolver kind) : kind_(kind) {
     useSingleThreadedBlas();
     cholmod_.cholmod().print = 0;  // failures are reported through info(), never on stdout
+  }
+
+  /// The symbolic analysis (fill-reducing order included) for matrices with the pattern of `a`;
+  /// factorize() does it on its first call otherwise.
+  void analyze(const SparseMatrix& a) {
+    if (kind_ == LinearSolver::Cholmod) analyze(cholmod_, a);
+    else analyze(ldlt_, a);
   }
 
   void factorize(const SparseMatrix& a) {
@@ -503,15 +529,18 @@ class SpdSolver {
 
  private:
   template <typename Factorization>
+  void analyze(Factorization& factorization, const SparseMatrix& a) {
+    // CHOLMOD orders the graph of the vertices, whose u and v columns stay together.
+    if constexpr (std::is_same_v<Factorization, CholmodSupernodalFactorization<SparseMatrix>>)
+      factorization.analyzePattern(a, blockFillReducingOrder(a, 2));
+    else
+      factorization.analyzePattern(a);
+    analyzed_ = true;
+  }
+
+  template <typename Factorization>
   void run(Factorization& factorization, const SparseMatrix& a) {
-    if (!analyzed_) {
-      // CHOLMOD orders the graph of the vertices, whose u and v columns stay together.
-      if constexpr (std::is_same_v<Factorization, CholmodSupernodalFactorization<SparseMatrix>>)
-        factorization.analyzePattern(a, blockFillReducingOrder(a, 2));
-      else
-        factorization.analyzePattern(a);
-      analyzed_ = true;
-    }
+    if (!analyzed_) analyze(factorization, a);
     factorization.factorize(a);
     if (factorization.info() != Eigen::Success)
       throw Error(ErrorCode::NumericalFailure,
@@ -539,6 +568,12 @@ class EnergySystem {
         threads_(threads),
         solver_(kind) {}
 
+  /// The symbolic analysis of A_rr, which depends on the pattern only: it can run before the
+  /// targets and weights are known (setFaceWeights does it otherwise).
+  void analyze() {
+    if (realCount_ > 0) solver_.analyze(realBlock(normal_.pattern()));
+  }
+
   /// Assembles and factorizes the system for the face weights (#F, > 0); with
   /// `integersFree` also the Schur complement that solveIntegers needs.
   void setFaceWeights(const Eigen::VectorXd& faceWeight, bool integersFree) {
@@ -549,10 +584,7 @@ class EnergySystem {
     ari_ = a.topRightCorner(r, k);
     z_ = b.head(r);
     if (r > 0) {  // r = 0 when every vertex is singular (a minimal cube)
-      SparseMatrix arr = a.topLeftCorner(r, r);
-      const double regularization = 1e-14 * arr.diagonal().cwiseAbs().maxCoeff();
-      for (int j = 0; j < r; ++j) arr.coeffRef(j, j) += regularization;
-      solver_.factorize(arr);
+      solver_.factorize(realBlock(a));
       z_ = solver_.solve(z_);
     }
     responses_.resize(0, 0);  // solved for the previous weights
@@ -683,6 +715,15 @@ class EnergySystem {
   }
 
  private:
+  /// A_rr of the normal matrix `a`, with a relative 1e-14 on its diagonal (a pattern, of zeros,
+  /// keeps its values).
+  SparseMatrix realBlock(const SparseMatrix& a) const {
+    SparseMatrix arr = a.topLeftCorner(realCount_, realCount_);
+    const double regularization = 1e-14 * arr.diagonal().cwiseAbs().maxCoeff();
+    for (int j = 0; j < realCount_; ++j) arr.coeffRef(j, j) += regularization;
+    return arr;
+  }
+
   Eigen::VectorXd rowWeights(const Eigen::VectorXd& faceWeight) const {
     Eigen::VectorXd w(ls_.target.size());
     for (Eigen::Index f = 0; f < ls_.faceArea.size(); ++f)
@@ -1154,13 +1195,52 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
   Parameterization result;
   result.n = n;
 
+  // The conformal scale (a solve on the whole mesh) runs on a second thread while the cut graph,
+  // the unknowns, the least squares' matrix and the symbolic analysis of its normal equations,
+  // none of which depends on the lattice scale, are built on this one.
+  context.report("parameterization", 0.0);
+  std::vector<double> conformal;
+  Timings sideTimings;
+  CutGraph cut;
+  CutMesh cm;
+  Unknowns unknowns;
+  LeastSquares ls;
+  FaceGeometry geometry;
+  std::vector<CreaseEdge> creases;
+  std::optional<EnergySystem> energySystem;
+  runBoth(
+      options.threads,
+      [&] {
+        {
+          ScopedTimer timer(result.timings, "cut graph");
+          cut = computeCutGraph(mesh, field);
+          cm = buildCutMesh(mesh, cut);
+        }
+        context.throwIfCanceled();
+        {
+          ScopedTimer timer(result.timings, "integer constraints");
+          unknowns = buildUnknowns(mesh, cm, n);
+        }
+        context.throwIfCanceled();
+        ScopedTimer timer(result.timings, "assembly");
+        geometry = computeFaceGeometry(mesh, field, cut);
+        creases = findCreases(mesh, cm, geometry, field, options.creaseWeight);
+        ls = buildLeastSquares(mesh, cm, unknowns, geometry, options.conformalWeight, creases);
+        energySystem.emplace(ls, unknowns.realCount, options.solver, options.threads);
+        energySystem->analyze();
+      },
+      [&] {
+        if (!options.conformalScale) return;
+        ScopedTimer timer(sideTimings, "conformal scale");
+        conformal = conformalFaceScale(mesh, field);
+      });
+  result.timings.insert(result.timings.end(), sideTimings.begin(), sideTimings.end());
+  EnergySystem& system = *energySystem;
+  result.integerVariables = unknowns.integerCount;
+  context.throwIfCanceled();
+
   int usedVertices = 0;
   for (const auto vh : mesh.vertices()) usedVertices += mesh.is_isolated(vh) ? 0 : 1;
-  std::vector<double> conformal;
-  if (options.conformalScale) {
-    ScopedTimer timer(result.timings, "conformal scale");
-    conformal = conformalFaceScale(mesh, field);
-  }
   result.edgeLength = options.edgeLength;
   if (!(result.edgeLength > 0.0)) {
     // From the vertex count; the conformal scale varies the lattice unit around h, so h is
@@ -1178,38 +1258,11 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
       faceScale[fh.idx()] = s / result.edgeLength;
     }
   for (std::size_t f = 0; f < conformal.size(); ++f) faceScale[f] *= conformal[f];
-
-  context.report("parameterization", 0.0);
-  CutGraph cut;
-  CutMesh cm;
-  {
-    ScopedTimer timer(result.timings, "cut graph");
-    cut = computeCutGraph(mesh, field);
-    cm = buildCutMesh(mesh, cut);
-  }
-  context.throwIfCanceled();
-  Unknowns unknowns;
-  {
-    ScopedTimer timer(result.timings, "integer constraints");
-    unknowns = buildUnknowns(mesh, cm, n);
-  }
-  result.integerVariables = unknowns.integerCount;
-  context.throwIfCanceled();
-  LeastSquares ls;
-  FaceGeometry geometry;
-  std::vector<CreaseEdge> creases;
-  {
-    ScopedTimer timer(result.timings, "assembly");
-    geometry = computeFaceGeometry(mesh, field, cut);
-    creases = findCreases(mesh, cm, geometry, field, faceScale, options.creaseWeight);
-    ls = buildLeastSquares(mesh, cm, unknowns, geometry, faceScale, options.conformalWeight,
-                           creases);
-  }
+  setLatticeScale(faceScale, options.creaseWeight, creases, ls);
   context.report("parameterization", 0.2);
 
   const int columns = unknowns.columns();
   const int realCount = unknowns.realCount;
-  EnergySystem system(ls, realCount, options.solver, options.threads);
   Eigen::VectorXd faceWeight = Eigen::VectorXd::Ones(mesh.n_faces());
   Eigen::VectorXd x;
   {

@@ -149,6 +149,16 @@ TEST(NormalEquations, EqualTheWeightedProductToTheLastBitForEveryWeighting) {
     for (int col = 0; col < columns; ++col)
       for (SparseMatrix::InnerIterator it(expected, col); it; ++it)
         EXPECT_EQ(assembled.coeff(it.row(), col), it.value()) << it.row() << ", " << col;
+    // pattern(): the assembly's places, in the same order, every value 0 (the parameterization
+    // analyzes its system on it before the weights are known).
+    const SparseMatrix& pattern = normal.pattern();
+    ASSERT_EQ(pattern.nonZeros(), assembled.nonZeros());
+    for (int col = 0; col <= columns; ++col)
+      ASSERT_EQ(pattern.outerIndexPtr()[col], assembled.outerIndexPtr()[col]);
+    for (Eigen::Index k = 0; k < pattern.nonZeros(); ++k) {
+      ASSERT_EQ(pattern.innerIndexPtr()[k], assembled.innerIndexPtr()[k]);
+      ASSERT_EQ(pattern.valuePtr()[k], 0.0);
+    }
   }
   EXPECT_THROW(normal.assemble(Eigen::VectorXd::Ones(row + 1)), std::invalid_argument);
   EXPECT_THROW(NormalEquations(a, {1, 5}), std::invalid_argument);

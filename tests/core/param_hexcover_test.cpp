@@ -537,12 +537,21 @@ double meanCreaseOffsetFromLatticeLines(const TriMesh& mesh, const RosyField& fi
   return sum / count;
 }
 
+// A 1 × 0.8 × 0.6 box and its field, whose sharp edges are the box's 12 edges.
+struct BoxWithCreases {
+  TriMesh box = makeBox(1.0, 0.8, 0.6, 12);
+  RosyField field;
+
+  BoxWithCreases() {
+    FieldOptions fieldOptions = latticeFieldOptions();
+    fieldOptions.sharpEdgeAngle = 60.0;
+    field = computeRosyField(box, fieldOptions);
+  }
+};
+
 TEST(HexCover, CreasesOfTheFieldLieOnLatticeLines) {
-  // 1 × 0.8 × 0.6 with h = 0.13: no side is a whole number of lattice units.
-  const TriMesh box = makeBox(1.0, 0.8, 0.6, 12);
-  FieldOptions fieldOptions = latticeFieldOptions();
-  fieldOptions.sharpEdgeAngle = 60.0;
-  const RosyField field = computeRosyField(box, fieldOptions);
+  // h = 0.13: no side of the box is a whole number of lattice units.
+  const auto [box, field] = BoxWithCreases();
   ASSERT_FALSE(field.sharpEdges.empty());
   ParamOptions options;
   options.edgeLength = 0.13;
@@ -553,6 +562,25 @@ TEST(HexCover, CreasesOfTheFieldLieOnLatticeLines) {
   const double offset = meanCreaseOffsetFromLatticeLines(box, field, withCreases);
   EXPECT_LT(offset, 0.05);
   EXPECT_GT(meanCreaseOffsetFromLatticeLines(box, field, without), 3.0 * offset);
+}
+
+TEST(HexCover, OneThreadAndTwoGiveTheSameMap) {
+  // With two threads the conformal scale is solved while the cut graph and the system's
+  // analysis are built; the creases' weights and the targets follow from it afterwards.
+  const auto [box, field] = BoxWithCreases();
+  ASSERT_FALSE(field.sharpEdges.empty());
+  ParamOptions options;
+  options.targetVertices = 300;
+  ASSERT_TRUE(options.conformalScale);
+  options.threads = 1;
+  const Parameterization one = computeParameterization(box, field, options);
+  options.threads = 2;
+  const Parameterization two = computeParameterization(box, field, options);
+  ASSERT_EQ(one.cornerCoords.size(), two.cornerCoords.size());
+  EXPECT_TRUE(one.cornerCoords == two.cornerCoords);
+  EXPECT_EQ(one.edgeLength, two.edgeLength);
+  EXPECT_EQ(one.energy, two.energy);
+  expectSeamlessLatticeMapWithoutFoldOvers(box, field, two);
 }
 
 // Shared clean meshes with the geometry-aware field of core/field at the default edge length
