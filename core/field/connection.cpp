@@ -4,38 +4,71 @@
 #include <cmath>
 #include <numeric>
 
+#include "core/common/concurrency.h"
 #include "core/common/error.h"
 
 namespace hexcover::field {
 
 std::vector<double> filterGaussCurvature(const TriMesh& mesh, const FieldGeometry& geometry,
-                                         int steps) {
+                                         int steps, int threads) {
   const int nv = static_cast<int>(mesh.n_vertices());
-  std::vector<double> k(nv, 0.0), share(nv, 0.0), next(nv, 0.0);
-  std::vector<int> degree(nv, 0);
-  std::vector<std::pair<int, int>> links;  // edges between interior vertices
-  links.reserve(mesh.n_edges());
+  // The vertices are stored in breadth-first order (slot[v]), so that a vertex's neighbours
+  // sit close together in memory: the steps run through the arrays instead of jumping around.
+  std::vector<int> slot(nv, -1), vertexAt;
+  vertexAt.reserve(nv);
+  for (int seed = 0; seed < nv; ++seed) {
+    if (slot[seed] >= 0) continue;
+    slot[seed] = static_cast<int>(vertexAt.size());
+    vertexAt.push_back(seed);
+    for (std::size_t next = vertexAt.size() - 1; next < vertexAt.size(); ++next)
+      for (const auto w : mesh.vv_range(OpenMesh::VertexHandle(vertexAt[next])))
+        if (slot[w.idx()] < 0) {
+          slot[w.idx()] = static_cast<int>(vertexAt.size());
+          vertexAt.push_back(w.idx());
+        }
+  }
+  std::vector<double> k(nv, 0.0), next(nv, 0.0);
   for (const auto vh : mesh.vertices())
     if (!mesh.is_boundary(vh) && !mesh.is_isolated(vh))
-      k[vh.idx()] = geometry.angleDefect[vh.idx()];
-  for (const auto eh : mesh.edges()) {
-    if (mesh.is_boundary(eh.v0()) || mesh.is_boundary(eh.v1())) continue;
-    links.emplace_back(eh.v0().idx(), eh.v1().idx());
-    ++degree[eh.v0().idx()];
-    ++degree[eh.v1().idx()];
-  }
+      k[slot[vh.idx()]] = geometry.angleDefect[vh.idx()];
+  // The links (edges between interior vertices) of each vertex, in edge order: each vertex sums
+  // its neighbours' shares in the same order for any thread count.
+  std::vector<int> first(nv + 1, 0);
+  const auto isLink = [&](const auto eh) {
+    return !mesh.is_boundary(eh.v0()) && !mesh.is_boundary(eh.v1());
+  };
+  for (const auto eh : mesh.edges())
+    if (isLink(eh)) ++first[slot[eh.v0().idx()] + 1], ++first[slot[eh.v1().idx()] + 1];
+  std::partial_sum(first.begin(), first.end(), first.begin());
+  std::vector<int> neighbour(first[nv]);
+  std::vector<int> filled(first.begin(), first.end() - 1);
+  for (const auto eh : mesh.edges())
+    if (isLink(eh)) {
+      const int a = slot[eh.v0().idx()], b = slot[eh.v1().idx()];
+      neighbour[filled[a]++] = b;
+      neighbour[filled[b]++] = a;
+    }
+  // share_v = K_v / (2 deg v), what v gives each neighbour per step.
+  const auto shareOf = [&](int v, double kv) {
+    const int degree = first[v + 1] - first[v];
+    return degree > 0 ? 0.5 * kv / degree : 0.0;
+  };
+  std::vector<double> share(nv), nextShare(nv);
+  for (int v = 0; v < nv; ++v) share[v] = shareOf(v, k[v]);
   for (int step = 0; step < steps; ++step) {
-    for (int v = 0; v < nv; ++v) {
-      share[v] = degree[v] > 0 ? 0.5 * k[v] / degree[v] : 0.0;
-      next[v] = degree[v] > 0 ? 0.5 * k[v] : k[v];
-    }
-    for (const auto& [a, b] : links) {
-      next[a] += share[b];
-      next[b] += share[a];
-    }
+    parallelFor(static_cast<std::size_t>(nv), threads, [&](std::size_t i) {
+      const int v = static_cast<int>(i);
+      double kv = first[v + 1] > first[v] ? 0.5 * k[v] : k[v];
+      for (int j = first[v]; j < first[v + 1]; ++j) kv += share[neighbour[j]];
+      next[v] = kv;
+      nextShare[v] = shareOf(v, kv);
+    });
     k.swap(next);
+    share.swap(nextShare);
   }
-  return k;
+  std::vector<double> filtered(nv);
+  for (int v = 0; v < nv; ++v) filtered[v] = k[slot[v]];
+  return filtered;
 }
 
 int filterSteps(const TriMesh& mesh, double radius) {

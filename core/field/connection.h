@@ -21,9 +21,10 @@ namespace hexcover::field {
 
 /// K̄: the angle defects of the interior vertices smoothed by `steps` steps of the conservative
 /// lazy random-walk diffusion K'_v = K_v / 2 + Σ_{w~v} K_w / (2 deg w) over the interior vertices
-/// (Σ K̄ = Σ K on every component; boundary vertices get 0). #V values.
+/// (Σ K̄ = Σ K on every component; boundary vertices get 0). #V values, the same for any number
+/// of threads.
 std::vector<double> filterGaussCurvature(const TriMesh& mesh, const FieldGeometry& geometry,
-                                         int steps);
+                                         int steps, int threads = 1);
 
 /// Number of diffusion steps for a filter radius (spread of the random walk ≈ ℓ̄ √(steps / 2)),
 /// capped at 400.

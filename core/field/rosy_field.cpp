@@ -294,7 +294,8 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
         });
         const std::vector<double> filtered = timed(timings, "filter_gauss_curvature", [&] {
           return field::filterGaussCurvature(
-              mesh, geometry, field::filterSteps(mesh, options.curvatureFilterRadius * diagonal));
+              mesh, geometry, field::filterSteps(mesh, options.curvatureFilterRadius * diagonal),
+              options.threads);
         });
         initialCorrections = timed(timings, "filter_gauss_curvature",
                                    [&] { return corrector.corrections(filtered); });
