@@ -5,6 +5,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "core/common/concurrency.h"
 #include "core/common/error.h"
 #include "core/mesh/soup_connectivity.h"
 #include "core/mesh/validate.h"
@@ -34,6 +35,9 @@ void validateOptions(const RepairOptions& options) {
                     std::to_string(options.weldTolerance));
   if (options.maxFaces == 0)
     throw Error(ErrorCode::InvalidOption, "the face limit must be positive");
+  if (options.threads < 1)
+    throw Error(ErrorCode::InvalidOption,
+                "repair threads must be at least 1, got " + std::to_string(options.threads));
 }
 
 // Refuses what no repair can fix, naming the first offending element.
@@ -323,20 +327,14 @@ void refuseRepairs(const RepairCounts& counts) {
     throw Error(ErrorCode::InvalidMesh, "repair is off but the mesh needs it: " + needed);
 }
 
-}  // namespace
-
-RepairedMesh repairMesh(const PolygonSoup& soup, const RepairOptions& options) {
-  validateOptions(options);
-  refuseUnrepairable(soup, options);
-  RepairedMesh out;
-  MeshReport& report = out.report;
-  RepairCounts& counts = report.repairs;
-  report.input = measureMesh(soup);
-
+// Builds in the empty `mesh` the repaired triangles of `soup` (triangulated, welded, without
+// degenerate and duplicate triangles, manifold, oriented), counting what was done in `counts`.
+void buildRepairedTriangles(const PolygonSoup& soup, const RepairOptions& options,
+                            RepairCounts& counts, TriMesh& mesh) {
   // Triangulate, keeping the input face of every triangle for messages.
   std::vector<Triangle> tris;
   std::vector<std::uint32_t> origin;
-  tris.reserve(report.input.triangles);
+  tris.reserve(soup.cornerVertices.size());
   for (std::size_t f = 0; f < soup.faceCount(); ++f) {
     const std::size_t n = soup.faceSize(f);
     if (n < 3) {
@@ -401,10 +399,9 @@ RepairedMesh repairMesh(const PolygonSoup& soup, const RepairOptions& options) {
   for (std::size_t v = 0; v < soup.vertexCount(); ++v)
     counts.droppedUnreferencedVertices += representative[v] == v && newIndex[v] == kNone;
   if (tris.empty())
-    throw Error(ErrorCode::InvalidMesh, "empty mesh: all " + std::to_string(report.input.faces) +
+    throw Error(ErrorCode::InvalidMesh, "empty mesh: all " + std::to_string(soup.faceCount()) +
                                             " faces are degenerate or duplicates");
 
-  TriMesh& mesh = out.mesh;
   mesh.reserve(used, 3 * tris.size() / 2 + 3, tris.size());
   std::vector<TriMesh::VertexHandle> handles(used);
   for (std::size_t v = 0; v < positions.size(); ++v)
@@ -416,10 +413,22 @@ RepairedMesh repairMesh(const PolygonSoup& soup, const RepairOptions& options) {
   }
   counts.droppedFaces =
       counts.droppedDegenerateFaces + counts.droppedDuplicateFaces + counts.facesRefusedByMesh;
+}
 
-  if (!options.repair) refuseRepairs(counts);
+}  // namespace
+
+RepairedMesh repairMesh(const PolygonSoup& soup, const RepairOptions& options) {
+  validateOptions(options);
+  refuseUnrepairable(soup, options);
+  RepairedMesh out;
+  MeshReport& report = out.report;
+  // The input is measured (report.input) on a second thread while it is repaired.
+  runBoth(
+      options.threads, [&] { buildRepairedTriangles(soup, options, report.repairs, out.mesh); },
+      [&] { report.input = measureMesh(soup); });
+  if (!options.repair) refuseRepairs(report.repairs);
   report.repaired = options.repair;
-  report.result = measureMesh(toPolygonSoup(mesh));
+  report.result = measureMesh(toPolygonSoup(out.mesh));
   return out;
 }
 

@@ -31,6 +31,8 @@ struct RepairOptions {
   double weldTolerance = 1e-7;
   /// Refuse (Error(LimitExceeded)) soups with more triangles than this.
   std::size_t maxFaces = 5'000'000;
+  /// With 2 or more, the input is measured beside its repair; the result is the same.
+  int threads = 2;
 };
 
 struct RepairedMesh {

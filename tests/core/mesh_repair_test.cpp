@@ -339,6 +339,24 @@ TEST(MeshRepair, EveryFaceIsAccountedForOnAMeshWithManyDefects) {
   expectManifoldAndOriented(report.result);
   EXPECT_EQ(report.result.components, 3u);
   EXPECT_EQ(report.result.eulerCharacteristic, 6);
+
+  // On one thread (two measure the input beside the repair): the same report and mesh.
+  RepairOptions oneThread;
+  oneThread.threads = 1;
+  const RepairedMesh sequential = repairMesh(soup, oneThread);
+  const MeshStatistics& input = sequential.report.input;
+  EXPECT_GT(input.duplicateFaces, 0u);
+  EXPECT_EQ(input.duplicateFaces, report.input.duplicateFaces);
+  EXPECT_EQ(input.degenerateFaces, report.input.degenerateFaces);
+  EXPECT_EQ(input.nonManifoldVertices, report.input.nonManifoldVertices);
+  EXPECT_EQ(input.inconsistentlyOrientedEdges, report.input.inconsistentlyOrientedEdges);
+  EXPECT_EQ(input.triangles, report.input.triangles);
+  EXPECT_EQ(sequential.report.repairs.droppedFaces, report.repairs.droppedFaces);
+  EXPECT_EQ(sequential.report.repairs.flippedFaces, report.repairs.flippedFaces);
+  EXPECT_EQ(sequential.report.result.faces, report.result.faces);
+  EXPECT_EQ(sequential.report.result.vertices, report.result.vertices);
+  oneThread.threads = 0;
+  errorMessage([&] { repairMesh(soup, oneThread); }, ErrorCode::InvalidOption);
 }
 
 }  // namespace
