@@ -22,6 +22,10 @@ std::vector<int> blockFillReducingOrder(const Eigen::SparseMatrix<double>& a, in
   cholmod_start(&common);
   common.print = 0;
   common.supernodal = CHOLMOD_SIMPLICIAL;  // only the order is wanted, not a supernodal analysis
+  if (blocks >= kMetisOnlyBlocks) {
+    common.nmethods = 1;
+    common.method[0].ordering = CHOLMOD_METIS;
+  }
   cholmod_sparse view = Eigen::viewAsCholmod(pattern);
   view.stype = -1;  // the lower triangle of a symmetric matrix
   cholmod_factor* factor = cholmod_analyze(&view, &common);

@@ -179,6 +179,25 @@ SparseMatrix withTwoByTwoBlocks(const SparseMatrix& a) {
   return m;
 }
 
+TEST(BlockFillReducingOrder, OrdersLargeGraphsByNestedDissection) {
+  // A 320 × 320 grid has more blocks than kMetisOnlyBlocks: METIS alone orders it, and on a grid
+  // this large nested dissection fills clearly less than minimum degree.
+  const int side = 320, n = 2 * side * side;
+  ASSERT_GE(side * side, kMetisOnlyBlocks);
+  const SparseMatrix a = withTwoByTwoBlocks(shiftedLaplacian(side * side, gridEdges(side), 0.01));
+  const std::vector<int> order = blockFillReducingOrder(a, 2);
+  ASSERT_EQ(static_cast<int>(order.size()), n);
+  for (int k = 0; k < n; k += 2) ASSERT_EQ(order[k + 1], order[k] + 1) << "a block is split";
+  CholmodSupernodalFactorization<SparseMatrix> nestedDissection, minimumDegree;
+  nestedDissection.analyzePattern(a, order);
+  minimumDegree.cholmod().nmethods = 1;
+  minimumDegree.cholmod().method[0].ordering = CHOLMOD_AMD;
+  minimumDegree.analyzePattern(a);
+  ASSERT_EQ(nestedDissection.info(), Eigen::Success);
+  ASSERT_EQ(minimumDegree.info(), Eigen::Success);
+  EXPECT_LT(nestedDissection.cholmod().lnz, 0.9 * minimumDegree.cholmod().lnz);
+}
+
 TEST(BlockFillReducingOrder, KeepsBlocksTogetherAndReducesFillLikeCholmodsOwnOrder) {
   const int side = 40, n = 2 * side * side;
   const SparseMatrix a = withTwoByTwoBlocks(shiftedLaplacian(side * side, gridEdges(side), 0.01));
