@@ -20,8 +20,8 @@ std::vector<double> filterGaussCurvature(const TriMesh& mesh, const FieldGeometr
     if (slot[seed] >= 0) continue;
     slot[seed] = static_cast<int>(vertexAt.size());
     vertexAt.push_back(seed);
-    for (std::size_t next = vertexAt.size() - 1; next < vertexAt.size(); ++next)
-      for (const auto w : mesh.vv_range(OpenMesh::VertexHandle(vertexAt[next])))
+    for (std::size_t head = vertexAt.size() - 1; head < vertexAt.size(); ++head)
+      for (const auto w : mesh.vv_range(OpenMesh::VertexHandle(vertexAt[head])))
         if (slot[w.idx()] < 0) {
           slot[w.idx()] = static_cast<int>(vertexAt.size());
           vertexAt.push_back(w.idx());

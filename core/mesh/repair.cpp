@@ -334,7 +334,9 @@ void buildRepairedTriangles(const PolygonSoup& soup, const RepairOptions& option
   // Triangulate, keeping the input face of every triangle for messages.
   std::vector<Triangle> tris;
   std::vector<std::uint32_t> origin;
-  tris.reserve(soup.cornerVertices.size());
+  // Σ (corners − 2) triangles when every face has 3 corners or more.
+  tris.reserve(soup.cornerVertices.size() -
+               std::min(soup.cornerVertices.size(), 2 * soup.faceCount()));
   for (std::size_t f = 0; f < soup.faceCount(); ++f) {
     const std::size_t n = soup.faceSize(f);
     if (n < 3) {

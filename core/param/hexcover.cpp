@@ -481,7 +481,8 @@ LeastSquares buildLeastSquares(const TriMesh& mesh, const CutMesh& cm, const Unk
 void setLatticeScale(const std::vector<double>& faceScale, double creaseWeight,
                      std::vector<CreaseEdge>& creases, LeastSquares& ls) {
   for (int f = 0; f < static_cast<int>(faceScale.size()); ++f)
-    if (ls.faceArea[f] > 0.0) ls.target[kRowsPerFace * f] = ls.target[kRowsPerFace * f + 3] = faceScale[f];
+    if (ls.faceArea[f] > 0.0)
+      ls.target[kRowsPerFace * f] = ls.target[kRowsPerFace * f + 3] = faceScale[f];
   for (std::size_t i = 0; i < creases.size(); ++i) {
     CreaseEdge& crease = creases[i];
     crease.weight = creaseWeight * crease.length * faceScale[crease.face];
