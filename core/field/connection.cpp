@@ -48,17 +48,17 @@ std::vector<double> filterGaussCurvature(const TriMesh& mesh, const FieldGeometr
       neighbour[filled[a]++] = b;
       neighbour[filled[b]++] = a;
     }
+  const auto degree = [&](int v) { return first[v + 1] - first[v]; };
   // share_v = K_v / (2 deg v), what v gives each neighbour per step.
   const auto shareOf = [&](int v, double kv) {
-    const int degree = first[v + 1] - first[v];
-    return degree > 0 ? 0.5 * kv / degree : 0.0;
+    return degree(v) > 0 ? 0.5 * kv / degree(v) : 0.0;
   };
   std::vector<double> share(nv), nextShare(nv);
   for (int v = 0; v < nv; ++v) share[v] = shareOf(v, k[v]);
   for (int step = 0; step < steps; ++step) {
     parallelFor(static_cast<std::size_t>(nv), threads, [&](std::size_t i) {
       const int v = static_cast<int>(i);
-      double kv = first[v + 1] > first[v] ? 0.5 * k[v] : k[v];
+      double kv = degree(v) > 0 ? 0.5 * k[v] : k[v];
       for (int j = first[v]; j < first[v + 1]; ++j) kv += share[neighbour[j]];
       next[v] = kv;
       nextShare[v] = shareOf(v, kv);
