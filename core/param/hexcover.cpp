@@ -53,6 +53,7 @@ struct WedgeTransform {
 // lattice positions of singular vertices), and the closure constraints among the pairs.
 struct CutMesh {
   std::vector<int> halfedgeWedge;  // #H, -1 on boundary halfedges
+  std::vector<std::array<int, 3>> faceWedges;  // #F, the wedges of its halfedges, in order
   std::vector<int> wedgeVertex;
   std::vector<WedgeTransform> wedgeTransform;
   std::vector<int> edgePair;       // #E, pair of the cut edge's translation or -1
@@ -181,6 +182,11 @@ CutMesh buildCutMesh(const TriMesh& mesh, const CutGraph& cut) {
     } else {
       cm.realGauge[v] = true;
     }
+  }
+  cm.faceWedges.resize(mesh.n_faces());
+  for (const auto fh : mesh.faces()) {
+    int c = 0;
+    for (const auto h : mesh.fh_range(fh)) cm.faceWedges[fh.idx()][c++] = cm.halfedgeWedge[h.idx()];
   }
   return cm;
 }
@@ -589,6 +595,7 @@ class EnergySystem {
       z_ = solver_.solve(z_);
     }
     responses_.resize(0, 0);  // solved for the previous weights
+    solvedResponses_.clear();
     if (!integersFree) return;
     schur_ = Eigen::MatrixXd(a.bottomRightCorner(k, k));
     c_ = b.tail(k) - ari_.transpose() * z_;
@@ -693,16 +700,33 @@ class EnergySystem {
 
   /// Column k: ∂x/∂x_j of the minimizer with every integer unknown fixed, for the integer
   /// column j = columns[k] (counted over all columns): changing x_j by δ moves the minimizer by
-  /// δ times this. Read from the kept columns of A_rr⁻¹ A_ri, or one multi-right-hand-side solve.
-  Eigen::MatrixXd responses(const std::vector<int>& columns) const {
+  /// δ times this. Read from the kept columns of A_rr⁻¹ A_ri, else from the columns solved by
+  /// earlier calls for the same weights, else one multi-right-hand-side solve (whose columns
+  /// are kept while they fit in kSolvedResponseBudget doubles).
+  Eigen::MatrixXd responses(const std::vector<int>& columns) {
+    constexpr double kSolvedResponseBudget = 8e6;  // 64 MB
     Eigen::MatrixXd r = Eigen::MatrixXd::Zero(realCount_ + c_.size(), columns.size());
     if (responses_.cols() > 0) {
       for (std::size_t k = 0; k < columns.size(); ++k)
         r.col(k).head(realCount_) = -responses_.col(columns[k] - realCount_);
     } else {
-      Eigen::MatrixXd rhs(realCount_, columns.size());
-      for (std::size_t k = 0; k < columns.size(); ++k) rhs.col(k) = ari_.col(columns[k] - realCount_);
-      r.topRows(realCount_) = -solver_.solve(rhs);
+      std::vector<std::size_t> unsolved;
+      for (std::size_t k = 0; k < columns.size(); ++k)
+        if (!solvedResponses_.count(columns[k])) unsolved.push_back(k);
+      if (!unsolved.empty()) {
+        Eigen::MatrixXd rhs(realCount_, unsolved.size());
+        for (std::size_t i = 0; i < unsolved.size(); ++i)
+          rhs.col(i) = ari_.col(columns[unsolved[i]] - realCount_);
+        const Eigen::MatrixXd y = solver_.solve(rhs);
+        for (std::size_t i = 0; i < unsolved.size(); ++i) {
+          r.col(unsolved[i]).head(realCount_) = -y.col(i);
+          const double kept = static_cast<double>(solvedResponses_.size() + 1) * realCount_;
+          if (kept <= kSolvedResponseBudget) solvedResponses_[columns[unsolved[i]]] = y.col(i);
+        }
+      }
+      for (std::size_t k = 0; k < columns.size(); ++k)
+        if (const auto it = solvedResponses_.find(columns[k]); it != solvedResponses_.end())
+          r.col(k).head(realCount_) = -it->second;
     }
     for (std::size_t k = 0; k < columns.size(); ++k) r(columns[k], k) = 1.0;
     return r;
@@ -753,6 +777,7 @@ class EnergySystem {
   Eigen::VectorXd z_;      // A_rr⁻¹ b_r
   Eigen::MatrixXd schur_;  // S
   Eigen::MatrixXd responses_;  // A_rr⁻¹ A_ri for the current weights (empty: not kept)
+  std::map<int, Eigen::VectorXd> solvedResponses_;  // columns of A_rr⁻¹ A_ri solved by responses()
   Eigen::VectorXd c_;      // c
 };
 
@@ -813,11 +838,20 @@ struct SnappedCoordinates {
   std::vector<std::array<std::int64_t, 2>> wedge;  // #wedges, in units of the quantum
 };
 
-// Value of integer scalar `scalar` (2·pair + j) from the rounded free unknowns in x.
-std::int64_t integerValue(const Unknowns& u, const Eigen::VectorXd& x, int scalar) {
+// Per elimination variable: its free unknown in x rounded to an integer (0 for the others, which
+// no expression uses).
+std::vector<std::int64_t> roundedFreeUnknowns(const Unknowns& u, const Eigen::VectorXd& x) {
+  std::vector<std::int64_t> rounded(u.freeColumn.size(), 0);
+  for (std::size_t variable = 0; variable < rounded.size(); ++variable)
+    if (u.freeColumn[variable] >= 0) rounded[variable] = std::llround(x[u.freeColumn[variable]]);
+  return rounded;
+}
+
+// Value of integer scalar `scalar` (2·pair + j) from the rounded free unknowns.
+std::int64_t integerValue(const Unknowns& u, const std::vector<std::int64_t>& rounded,
+                          int scalar) {
   std::int64_t value = 0;
-  for (const auto& [variable, c] : u.elimination.expression[scalar])
-    value += c * std::llround(x[u.freeColumn[variable]]);
+  for (const auto& [variable, c] : u.elimination.expression[scalar]) value += c * rounded[variable];
   return value;
 }
 
@@ -832,15 +866,20 @@ SnappedCoordinates snapCoordinates(const TriMesh& mesh, const CutMesh& cm, const
     master[vh.idx()] = toLattice * x.segment<2>(column);
     largest = std::max(largest, master[vh.idx()].cwiseAbs().maxCoeff());
   }
+  const std::vector<std::int64_t> rounded = roundedFreeUnknowns(u, x);
   std::vector<std::int64_t> pairValue(2 * cm.pairCount);
   for (int scalar = 0; scalar < 2 * cm.pairCount; ++scalar) {
-    pairValue[scalar] = integerValue(u, x, scalar);
+    pairValue[scalar] = integerValue(u, rounded, scalar);
     largest = std::max(largest, std::abs(static_cast<double>(pairValue[scalar])));
   }
   SnappedCoordinates s;
   s.exponent = std::min(30, 48 - static_cast<int>(std::ceil(std::log2(largest))));
   const double scale = std::ldexp(1.0, s.exponent);
   for (auto& value : pairValue) value *= std::int64_t{1} << s.exponent;
+  using Rotation = Eigen::Matrix<std::int64_t, 2, 2>;
+  std::vector<Rotation> rotations(n);  // R^k, k = 0 … n − 1
+  for (int k = 0; k < n; ++k) rotations[k] = latticeRotation(n, k).cast<std::int64_t>();
+  const auto rotation = [&](int k) -> const Rotation& { return rotations[((k % n) + n) % n]; };
   s.wedge.resize(cm.wedgeVertex.size());
   for (std::size_t w = 0; w < cm.wedgeVertex.size(); ++w) {
     const int v = cm.wedgeVertex[w];
@@ -850,11 +889,11 @@ SnappedCoordinates snapCoordinates(const TriMesh& mesh, const CutMesh& cm, const
       z = {pairValue[2 * cm.vertexPair[v]], pairValue[2 * cm.vertexPair[v] + 1]};
     else if (u.vertexColumn[v] >= 0)
       z = {std::llround(master[v].x() * scale), std::llround(master[v].y() * scale)};
-    z = latticeRotation(n, transform.rotation).cast<std::int64_t>() * z;
+    z = rotation(transform.rotation) * z;
     for (const auto& term : transform.terms) {
       const Eigen::Matrix<std::int64_t, 2, 1> y(pairValue[2 * term.pair],
                                                 pairValue[2 * term.pair + 1]);
-      z += (term.sign * latticeRotation(n, term.rotation)).cast<std::int64_t>() * y;
+      z += term.sign * (rotation(term.rotation) * y);
     }
     s.wedge[w] = {z.x(), z.y()};
   }
@@ -877,20 +916,19 @@ Orientation countOrientation(const TriMesh& mesh, const CutMesh& cm, const Snapp
   Orientation o;
   if (flippedFaces) flippedFaces->assign(mesh.n_faces(), false);
   if (degenerateFaces) degenerateFaces->assign(mesh.n_faces(), false);
-  for (const auto fh : mesh.faces()) {
-    std::array<const std::array<std::int64_t, 2>*, 3> z{};
-    int c = 0;
-    for (const auto h : mesh.fh_range(fh)) z[c++] = &s.wedge[cm.halfedgeWedge[h.idx()]];
-    const __int128 ax = (*z[1])[0] - (*z[0])[0], ay = (*z[1])[1] - (*z[0])[1];
-    const __int128 bx = (*z[2])[0] - (*z[0])[0], by = (*z[2])[1] - (*z[0])[1];
+  for (std::size_t f = 0; f < cm.faceWedges.size(); ++f) {
+    const auto& [z0, z1, z2] = cm.faceWedges[f];
+    const auto &a = s.wedge[z0], &b = s.wedge[z1], &c = s.wedge[z2];
+    const __int128 ax = b[0] - a[0], ay = b[1] - a[1];
+    const __int128 bx = c[0] - a[0], by = c[1] - a[1];
     const __int128 det = ax * by - ay * bx;  // same sign in lattice and Cartesian coordinates
     if (det == 0) {
       ++o.degenerate;
-      if (degenerateFaces) (*degenerateFaces)[fh.idx()] = true;
+      if (degenerateFaces) (*degenerateFaces)[f] = true;
     }
     if (det < 0) {
       ++o.flipped;
-      if (flippedFaces) (*flippedFaces)[fh.idx()] = true;
+      if (flippedFaces) (*flippedFaces)[f] = true;
     }
   }
   return o;
@@ -902,9 +940,9 @@ Orientation countOrientation(const TriMesh& mesh, const CutMesh& cm, const Snapp
 // on, try moving each to a neighbouring lattice point (its effect on the minimizer is linear: one
 // back-substitution per unknown with the last factorization) and keep a move when it leaves fewer
 // flipped triangles, or as many and fewer degenerate ones. At most four passes over at most 32
-// units each.
+// units each; the trial moves are judged on up to `threads` threads, with the same result.
 void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
-                    const EnergySystem& system, int n, Eigen::VectorXd& x,
+                    EnergySystem& system, int n, int threads, Eigen::VectorXd& x,
                     SnappedCoordinates& snapped, Orientation& orientation,
                     std::vector<bool>& flippedFaces) {
   const auto units = roundingUnits(u);
@@ -926,40 +964,64 @@ void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
       if (involved.size() >= 32) break;
     }
     if (involved.empty()) return;  // the faulty corners do not depend on an integer unknown
-    bool improved = false;
     std::vector<int> columns;
     for (const int i : involved) columns.insert(columns.end(), units[i].begin(), units[i].end());
     const Eigen::MatrixXd allResponses = system.responses(columns);
-    int first = 0;  // column of allResponses for the unit's first unknown
+    // The trials in order: each involved unit's moves, the first that leaves fewer faults kept.
+    struct Trial {
+      int unit;
+      int firstResponse;  // column of allResponses for the unit's first unknown
+      Eigen::Vector2d move;
+      std::size_t nextUnit;  // index of the next unit's first trial
+    };
+    std::vector<Trial> trials;
+    int first = 0;
     for (const int i : involved) {
-      const auto& unit = units[i];
-      std::vector<Eigen::VectorXd> response;
-      for (std::size_t k = 0; k < unit.size(); ++k) response.push_back(allResponses.col(first + k));
-      first += static_cast<int>(unit.size());
-      std::vector<Eigen::Vector2d> moves;
-      if (unit.size() == 2)
-        moves = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, -1}, {-1, 1}};
-      else
-        moves = {{1, 0}, {-1, 0}};
-      for (const auto& move : moves) {
-        Eigen::VectorXd candidate = x;
-        for (std::size_t k = 0; k < unit.size(); ++k) candidate += move[k] * response[k];
-        for (const int column : unit) candidate[column] = std::round(candidate[column]);
-        std::vector<bool> candidateFlipped, candidateDegenerate;
-        const SnappedCoordinates candidateSnap = snapCoordinates(mesh, cm, u, candidate, n);
-        const Orientation candidateOrientation =
-            countOrientation(mesh, cm, candidateSnap, &candidateFlipped, &candidateDegenerate);
-        if (fewerFaults(candidateOrientation, orientation)) {
-          x = candidate;
-          snapped = candidateSnap;
-          orientation = candidateOrientation;
-          flippedFaces = std::move(candidateFlipped);
-          degenerateFaces = std::move(candidateDegenerate);
-          improved = true;
-          break;
-        }
+      const std::vector<Eigen::Vector2d> moves =
+          units[i].size() == 2
+              ? std::vector<Eigen::Vector2d>{{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, -1}, {-1, 1}}
+              : std::vector<Eigen::Vector2d>{{1, 0}, {-1, 0}};
+      const std::size_t nextUnit = trials.size() + moves.size();
+      for (const auto& move : moves) trials.push_back({i, first, move, nextUnit});
+      first += static_cast<int>(units[i].size());
+    }
+    const auto candidateOf = [&](const Trial& trial) {
+      const auto& unit = units[trial.unit];
+      Eigen::VectorXd candidate = x;
+      for (std::size_t k = 0; k < unit.size(); ++k)
+        candidate += trial.move[k] * allResponses.col(trial.firstResponse + static_cast<int>(k));
+      for (const int column : unit) candidate[column] = std::round(candidate[column]);
+      return candidate;
+    };
+    // Trials are judged in parallel, kTrialWindow at a time, from the current x; the first that
+    // improves in trial order is taken and judging goes on from the next unit, so the result is
+    // that of judging them one by one.
+    constexpr std::size_t kTrialWindow = 16;
+    bool improved = false;
+    for (std::size_t next = 0; next < trials.size();) {
+      const std::size_t count = std::min(kTrialWindow, trials.size() - next);
+      std::vector<Orientation> outcome(count);
+      parallelFor(
+          count, threads,
+          [&](std::size_t k) {
+            outcome[k] = countOrientation(
+                mesh, cm, snapCoordinates(mesh, cm, u, candidateOf(trials[next + k]), n));
+          },
+          1);
+      const auto better = std::find_if(outcome.begin(), outcome.end(), [&](const Orientation& o) {
+        return fewerFaults(o, orientation);
+      });
+      if (better == outcome.end()) {
+        next += count;
+        continue;
       }
+      const Trial& trial = trials[next + static_cast<std::size_t>(better - outcome.begin())];
+      x = candidateOf(trial);
+      snapped = snapCoordinates(mesh, cm, u, x, n);
+      orientation = countOrientation(mesh, cm, snapped, &flippedFaces, &degenerateFaces);
+      improved = true;
       if (orientation.flipped == 0 && orientation.degenerate == 0) return;
+      next = trial.nextUnit;
     }
     if (!improved) return;
   }
@@ -1351,8 +1413,8 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
     };
     const auto repair = [&](Iterate& it) {
       ScopedTimer timer(result.timings, "rounding repair");
-      repairRounding(mesh, cm, unknowns, system, n, it.x, it.snapped, it.orientation,
-                     it.flippedFaces);
+      repairRounding(mesh, cm, unknowns, system, n, options.threads, it.x, it.snapped,
+                     it.orientation, it.flippedFaces);
     };
     const Iterate plain{x, snapped, orientation, flippedFaces};
     Iterate chosen = plain;  // relax, then repair and relax again
@@ -1376,7 +1438,8 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
   // Degenerate triangles (zero area, no fold-over) come from the rounding: a rounding move first.
   if (orientation.flipped == 0 && orientation.degenerate > 0) {
     ScopedTimer timer(result.timings, "rounding repair");
-    repairRounding(mesh, cm, unknowns, system, n, x, snapped, orientation, flippedFaces);
+    repairRounding(mesh, cm, unknowns, system, n, options.threads, x, snapped, orientation,
+                   flippedFaces);
   }
   {
     ScopedTimer timer(result.timings, "stiffening");
@@ -1412,7 +1475,8 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
       orientation = countOrientation(mesh, cm, snapped, &flippedFaces);
       // Stiffening moves the real unknowns; a rounding move may now remove what is left.
       if (orientation.flipped > 0 || orientation.degenerate > 0)
-        repairRounding(mesh, cm, unknowns, system, n, x, snapped, orientation, flippedFaces);
+        repairRounding(mesh, cm, unknowns, system, n, options.threads, x, snapped, orientation,
+                       flippedFaces);
       const int remaining = orientation.flipped + orientation.degenerate;
       sinceBest = remaining < best ? 0 : sinceBest + 1;
       best = std::min(best, remaining);
@@ -1444,13 +1508,14 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
   result.cutEdge = cut.cutEdge;
   result.faceRotation = cut.faceRotation;
   result.cutLength = cut.cutLength;
+  const std::vector<std::int64_t> rounded = roundedFreeUnknowns(unknowns, x);
   for (const auto eh : mesh.edges()) {
     const int pair = cm.edgePair[eh.idx()];
     if (pair < 0) continue;
     auto& transition = result.edgeTransition[eh.idx()];
     transition.rotation = cut.combedMatching[eh.idx()];
     for (int j = 0; j < 2; ++j)
-      transition.translation[j] = static_cast<int>(integerValue(unknowns, x, 2 * pair + j));
+      transition.translation[j] = static_cast<int>(integerValue(unknowns, rounded, 2 * pair + j));
   }
   for (const auto& s : field.singularities) {
     ParamSingularity ps;

@@ -635,14 +635,21 @@ TEST(HexCoverFoldOvers, AreRelaxedLocallyWithoutAGlobalReSolve) {
 // Two +1/6 singularities at neighbouring vertices of bunny_7k (the lattice limit of clustering
 // keeps them apart) were rounded onto one lattice point: two parameter triangles of zero area,
 // which left a gap in the remesh and two irregular vertices away from the lattice's pattern. The
-// rounding repair moves one of them to a neighbouring lattice point.
+// rounding repair moves one of them to a neighbouring lattice point. It judges its trial moves
+// on two threads as on one, with the same result.
 TEST(HexCoverDegenerate, SingularitiesRoundedOntoOneLatticePointAreSeparated) {
   HEXCOVER_SHARED_MESH_OR_SKIP(path, "clean/bunny_7k.off");
   const TriMesh mesh = loadMesh(path);
   const RosyField field = computeRosyField(mesh, pipelineFieldOptions(mesh));
-  const Parameterization p = computeParameterization(mesh, field, ParamOptions{});
+  ParamOptions options;
+  options.threads = 2;
+  const Parameterization p = computeParameterization(mesh, field, options);
   EXPECT_EQ(p.degenerateTriangles, 0);
   expectSeamlessLatticeMapWithoutFoldOvers(mesh, field, p);
+  options.threads = 1;
+  const Parameterization one = computeParameterization(mesh, field, options);
+  EXPECT_TRUE(one.cornerCoords == p.cornerCoords);
+  EXPECT_EQ(one.energy, p.energy);
 }
 
 // With the field clustered at kSingularityDistanceInEdges lattice units (the default of the
