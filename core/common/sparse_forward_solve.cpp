@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "core/common/concurrency.h"
+#include "core/common/error.h"
 
 namespace hexcover {
 namespace {
@@ -82,14 +84,31 @@ void forwardSolveColumns(const SupernodalFactor& l, const Eigen::SparseMatrix<do
   }
 }
 
+void requireRealSupernodalLL(const cholmod_factor& factor, const char* caller) {
+  if (!factor.is_super || !factor.is_ll || factor.xtype != CHOLMOD_REAL ||
+      factor.itype != CHOLMOD_INT || factor.dtype != CHOLMOD_DOUBLE)
+    throw std::invalid_argument(std::string(caller) + ": needs a real supernodal LL' factor");
+}
+
+/// One thread's CHOLMOD workspace.
+class CholmodWorkspace {
+ public:
+  CholmodWorkspace() { cholmod_start(&common_); }
+  ~CholmodWorkspace() { cholmod_finish(&common_); }
+  CholmodWorkspace(const CholmodWorkspace&) = delete;
+  CholmodWorkspace& operator=(const CholmodWorkspace&) = delete;
+  cholmod_common& common() { return common_; }
+
+ private:
+  cholmod_common common_;
+};
+
 }  // namespace
 
 Eigen::SparseMatrix<double> supernodalForwardSolve(const cholmod_factor& factor,
                                                    const Eigen::SparseMatrix<double>& b,
                                                    int threads) {
-  if (!factor.is_super || !factor.is_ll || factor.xtype != CHOLMOD_REAL ||
-      factor.itype != CHOLMOD_INT || factor.dtype != CHOLMOD_DOUBLE)
-    throw std::invalid_argument("supernodalForwardSolve: needs a real supernodal LL' factor");
+  requireRealSupernodalLL(factor, "supernodalForwardSolve");
   if (b.rows() != static_cast<Eigen::Index>(factor.n))
     throw std::invalid_argument("supernodalForwardSolve: the right-hand side has the wrong size");
   const SupernodalFactor l(factor);
@@ -110,6 +129,42 @@ Eigen::SparseMatrix<double> supernodalForwardSolve(const cholmod_factor& factor,
   Eigen::SparseMatrix<double> result(l.n, b.cols());
   result.setFromTriplets(triplets[0].begin(), triplets[0].end());
   return result;
+}
+
+Eigen::MatrixXd supernodalSolve(const cholmod_factor& factor, const Eigen::MatrixXd& b,
+                                int threads) {
+  requireRealSupernodalLL(factor, "supernodalSolve");
+  if (b.rows() != static_cast<Eigen::Index>(factor.n))
+    throw std::invalid_argument("supernodalSolve: the right-hand side has the wrong size");
+  const int columns = static_cast<int>(b.cols());
+  const int width0 = std::max(kSolveBlock, (columns + 1) / 2);
+  const int blocks = (columns + width0 - 1) / width0;
+  Eigen::MatrixXd x(b.rows(), b.cols());
+  std::vector<char> failed(blocks, 0);
+  // The blocks do not depend on the thread count, so neither does any column's result.
+  parallelFor(
+      blocks, threads,
+      [&](std::size_t block) {
+        const int first = static_cast<int>(block) * width0;
+        const int width = std::min(width0, columns - first);
+        Eigen::MatrixXd rhs = b.middleCols(first, width);
+        cholmod_dense view = Eigen::viewAsCholmod(rhs);
+        CholmodWorkspace workspace;
+        // cholmod_solve reads the factor only.
+        cholmod_dense* solved = cholmod_solve(CHOLMOD_A, const_cast<cholmod_factor*>(&factor),
+                                              &view, &workspace.common());
+        if (!solved) {
+          failed[block] = 1;
+          return;
+        }
+        x.middleCols(first, width) =
+            Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(solved->x), b.rows(), width);
+        cholmod_free_dense(&solved, &workspace.common());
+      },
+      1);
+  if (std::find(failed.begin(), failed.end(), 1) != failed.end())
+    throw Error(ErrorCode::LimitExceeded, "out of memory in a sparse solve (CHOLMOD)");
+  return x;
 }
 
 }  // namespace hexcover

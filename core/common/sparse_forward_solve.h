@@ -1,5 +1,6 @@
 #pragma once
-// Forward substitution with a sparse right-hand side on CHOLMOD's supernodal factor.
+// Forward substitution with a sparse right-hand side on CHOLMOD's supernodal factor, and solves
+// with many dense right-hand sides split between threads.
 //
 // For P A Pᵀ = L Lᵀ, column j of W = L⁻¹ P B is nonzero only on the supernodes of the elimination
 // tree's paths from the rows of B(:, j) to the root (Gilbert and Peierls, on supernodes), which
@@ -48,5 +49,16 @@ class CholmodSupernodalFactorization : public Eigen::CholmodSupernodalLLT<Matrix
 Eigen::SparseMatrix<double> supernodalForwardSolve(const cholmod_factor& factor,
                                                    const Eigen::SparseMatrix<double>& b,
                                                    int threads = 1);
+
+/// Columns per CHOLMOD solve in supernodalSolve.
+inline constexpr int kSolveBlock = 4;
+
+/// A⁻¹ B for the factor of A (CHOLMOD's solve, permutation included) and a dense B with factor.n
+/// rows: blocks of kSolveBlock columns, each solved with its own CHOLMOD workspace, on up to
+/// `threads` threads (the same result for any count). Throws std::invalid_argument for a factor
+/// that is not a real supernodal LLᵀ one or a B of the wrong size, Error LimitExceeded when
+/// CHOLMOD runs out of memory.
+Eigen::MatrixXd supernodalSolve(const cholmod_factor& factor, const Eigen::MatrixXd& b,
+                                int threads = 1);
 
 }  // namespace hexcover

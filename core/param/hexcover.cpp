@@ -524,11 +524,13 @@ class SpdSolver {
   }
 
   /// A⁻¹ b for one or several right-hand sides, with the last factorization (b itself when
-  /// nothing was factorized: the 0×0 system).
-  Eigen::MatrixXd solve(const Eigen::MatrixXd& b) const {
+  /// nothing was factorized: the 0×0 system); several on up to `threads` threads.
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& b, int threads = 1) const {
     if (b.rows() == 0 || b.cols() == 0) return b;
-    Eigen::MatrixXd x = kind_ == LinearSolver::Cholmod ? Eigen::MatrixXd(cholmod_.solve(b))
-                                                       : Eigen::MatrixXd(ldlt_.solve(b));
+    const cholmod_factor* factor = supernodalFactor();
+    Eigen::MatrixXd x = factor && b.cols() > 1        ? supernodalSolve(*factor, b, threads)
+                        : kind_ == LinearSolver::Cholmod ? Eigen::MatrixXd(cholmod_.solve(b))
+                                                         : Eigen::MatrixXd(ldlt_.solve(b));
     if (!x.allFinite())
       throw Error(ErrorCode::NumericalFailure, "the parameterization solve produced non-finite values");
     return x;
@@ -698,38 +700,40 @@ class EnergySystem {
     return x;
   }
 
-  /// Column k: ∂x/∂x_j of the minimizer with every integer unknown fixed, for the integer
-  /// column j = columns[k] (counted over all columns): changing x_j by δ moves the minimizer by
-  /// δ times this. Read from the kept columns of A_rr⁻¹ A_ri, else from the columns solved by
-  /// earlier calls for the same weights, else one multi-right-hand-side solve (whose columns
-  /// are kept while they fit in kSolvedResponseBudget doubles).
-  Eigen::MatrixXd responses(const std::vector<int>& columns) {
-    constexpr double kSolvedResponseBudget = 8e6;  // 64 MB
-    Eigen::MatrixXd r = Eigen::MatrixXd::Zero(realCount_ + c_.size(), columns.size());
-    if (responses_.cols() > 0) {
-      for (std::size_t k = 0; k < columns.size(); ++k)
-        r.col(k).head(realCount_) = -responses_.col(columns[k] - realCount_);
-    } else {
-      std::vector<std::size_t> unsolved;
-      for (std::size_t k = 0; k < columns.size(); ++k)
-        if (!solvedResponses_.count(columns[k])) unsolved.push_back(k);
-      if (!unsolved.empty()) {
-        Eigen::MatrixXd rhs(realCount_, unsolved.size());
+  /// For each integer column j = columns[k] (counted over all columns): the real unknowns' part
+  /// of ∂x/∂x_j for the minimizer with every integer unknown fixed, −A_rr⁻¹ A_ri e_j (its
+  /// integer part is e_j): changing x_j by δ moves the minimizer by δ times this. Read from the
+  /// kept columns of A_rr⁻¹ A_ri, else solved with the last factorization. The solved columns
+  /// are kept until the weights change, within kResponseCacheBudget doubles (those of this call
+  /// always); the pointers stay valid until the next call.
+  std::vector<const Eigen::VectorXd*> realResponses(const std::vector<int>& columns) {
+    constexpr double kResponseCacheBudget = 8e6;  // 64 MB
+    std::vector<int> unsolved;
+    for (const int column : columns)
+      if (!solvedResponses_.count(column) &&
+          std::find(unsolved.begin(), unsolved.end(), column) == unsolved.end())
+        unsolved.push_back(column);
+    const auto doubles = [&](std::size_t count) { return static_cast<double>(count) * realCount_; };
+    if (doubles(solvedResponses_.size() + unsolved.size()) > kResponseCacheBudget)
+      for (auto it = solvedResponses_.begin(); it != solvedResponses_.end();)
+        it = std::find(columns.begin(), columns.end(), it->first) == columns.end()
+                 ? solvedResponses_.erase(it)
+                 : std::next(it);
+    if (!unsolved.empty()) {
+      Eigen::MatrixXd y(realCount_, unsolved.size());
+      if (responses_.cols() > 0) {
         for (std::size_t i = 0; i < unsolved.size(); ++i)
-          rhs.col(i) = ari_.col(columns[unsolved[i]] - realCount_);
-        const Eigen::MatrixXd y = solver_.solve(rhs);
-        for (std::size_t i = 0; i < unsolved.size(); ++i) {
-          r.col(unsolved[i]).head(realCount_) = -y.col(i);
-          const double kept = static_cast<double>(solvedResponses_.size() + 1) * realCount_;
-          if (kept <= kSolvedResponseBudget) solvedResponses_[columns[unsolved[i]]] = y.col(i);
-        }
+          y.col(i) = responses_.col(unsolved[i] - realCount_);
+      } else {
+        for (std::size_t i = 0; i < unsolved.size(); ++i)
+          y.col(i) = ari_.col(unsolved[i] - realCount_);
+        y = solver_.solve(y, threads_);
       }
-      for (std::size_t k = 0; k < columns.size(); ++k)
-        if (const auto it = solvedResponses_.find(columns[k]); it != solvedResponses_.end())
-          r.col(k).head(realCount_) = -it->second;
+      for (std::size_t i = 0; i < unsolved.size(); ++i) solvedResponses_[unsolved[i]] = -y.col(i);
     }
-    for (std::size_t k = 0; k < columns.size(); ++k) r(columns[k], k) = 1.0;
-    return r;
+    std::vector<const Eigen::VectorXd*> result;
+    for (const int column : columns) result.push_back(&solvedResponses_.at(column));
+    return result;
   }
 
   /// Σ_f A_f |rows_f x − target_f|² (energy (4) plus the anisotropy rows, unit face weights)
@@ -777,7 +781,7 @@ class EnergySystem {
   Eigen::VectorXd z_;      // A_rr⁻¹ b_r
   Eigen::MatrixXd schur_;  // S
   Eigen::MatrixXd responses_;  // A_rr⁻¹ A_ri for the current weights (empty: not kept)
-  std::map<int, Eigen::VectorXd> solvedResponses_;  // columns of A_rr⁻¹ A_ri solved by responses()
+  std::map<int, Eigen::VectorXd> solvedResponses_;  // columns of realResponses for these weights
   Eigen::VectorXd c_;      // c
 };
 
@@ -964,64 +968,65 @@ void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
       if (involved.size() >= 32) break;
     }
     if (involved.empty()) return;  // the faulty corners do not depend on an integer unknown
-    std::vector<int> columns;
-    for (const int i : involved) columns.insert(columns.end(), units[i].begin(), units[i].end());
-    const Eigen::MatrixXd allResponses = system.responses(columns);
-    // The trials in order: each involved unit's moves, the first that leaves fewer faults kept.
-    struct Trial {
-      int unit;
-      int firstResponse;  // column of allResponses for the unit's first unknown
-      Eigen::Vector2d move;
-      std::size_t nextUnit;  // index of the next unit's first trial
-    };
-    std::vector<Trial> trials;
-    int first = 0;
-    for (const int i : involved) {
-      const std::vector<Eigen::Vector2d> moves =
-          units[i].size() == 2
-              ? std::vector<Eigen::Vector2d>{{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, -1}, {-1, 1}}
-              : std::vector<Eigen::Vector2d>{{1, 0}, {-1, 0}};
-      const std::size_t nextUnit = trials.size() + moves.size();
-      for (const auto& move : moves) trials.push_back({i, first, move, nextUnit});
-      first += static_cast<int>(units[i].size());
-    }
-    const auto candidateOf = [&](const Trial& trial) {
-      const auto& unit = units[trial.unit];
-      Eigen::VectorXd candidate = x;
-      for (std::size_t k = 0; k < unit.size(); ++k)
-        candidate += trial.move[k] * allResponses.col(trial.firstResponse + static_cast<int>(k));
-      for (const int column : unit) candidate[column] = std::round(candidate[column]);
-      return candidate;
-    };
-    // Trials are judged in parallel, kTrialWindow at a time, from the current x; the first that
-    // improves in trial order is taken and judging goes on from the next unit, so the result is
-    // that of judging them one by one.
-    constexpr std::size_t kTrialWindow = 16;
+    // The units in order, each unit's moves in order: the first move that leaves fewer faults is
+    // kept. The moves of kUnitWindow units are judged at once, in parallel, from the current x;
+    // after a kept move judging goes on from the next unit, so the result is that of judging them
+    // one by one.
+    constexpr std::size_t kUnitWindow = 4;
+    const std::vector<int> order(involved.begin(), involved.end());
+    const int realCount = u.realCount;
     bool improved = false;
-    for (std::size_t next = 0; next < trials.size();) {
-      const std::size_t count = std::min(kTrialWindow, trials.size() - next);
-      std::vector<Orientation> outcome(count);
+    for (std::size_t nextUnit = 0; nextUnit < order.size();) {
+      struct Trial {
+        std::size_t position;  // of the unit in `order`
+        std::size_t firstResponse;
+        Eigen::Vector2d move;
+      };
+      std::vector<Trial> trials;
+      std::vector<int> columns;
+      const std::size_t end = std::min(order.size(), nextUnit + kUnitWindow);
+      for (std::size_t position = nextUnit; position < end; ++position) {
+        const auto& unit = units[order[position]];
+        const std::vector<Eigen::Vector2d> moves =
+            unit.size() == 2
+                ? std::vector<Eigen::Vector2d>{{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, -1}, {-1, 1}}
+                : std::vector<Eigen::Vector2d>{{1, 0}, {-1, 0}};
+        for (const auto& move : moves) trials.push_back({position, columns.size(), move});
+        columns.insert(columns.end(), unit.begin(), unit.end());
+      }
+      const std::vector<const Eigen::VectorXd*> responses = system.realResponses(columns);
+      const auto candidateOf = [&](const Trial& trial) {
+        const auto& unit = units[order[trial.position]];
+        Eigen::VectorXd candidate = x;
+        for (std::size_t k = 0; k < unit.size(); ++k) {
+          candidate.head(realCount) += trial.move[k] * *responses[trial.firstResponse + k];
+          candidate[unit[k]] += trial.move[k];
+        }
+        for (const int column : unit) candidate[column] = std::round(candidate[column]);
+        return candidate;
+      };
+      std::vector<Orientation> outcome(trials.size());
       parallelFor(
-          count, threads,
+          trials.size(), threads,
           [&](std::size_t k) {
-            outcome[k] = countOrientation(
-                mesh, cm, snapCoordinates(mesh, cm, u, candidateOf(trials[next + k]), n));
+            outcome[k] =
+                countOrientation(mesh, cm, snapCoordinates(mesh, cm, u, candidateOf(trials[k]), n));
           },
           1);
       const auto better = std::find_if(outcome.begin(), outcome.end(), [&](const Orientation& o) {
         return fewerFaults(o, orientation);
       });
       if (better == outcome.end()) {
-        next += count;
+        nextUnit = end;
         continue;
       }
-      const Trial& trial = trials[next + static_cast<std::size_t>(better - outcome.begin())];
+      const Trial& trial = trials[static_cast<std::size_t>(better - outcome.begin())];
       x = candidateOf(trial);
       snapped = snapCoordinates(mesh, cm, u, x, n);
       orientation = countOrientation(mesh, cm, snapped, &flippedFaces, &degenerateFaces);
       improved = true;
       if (orientation.flipped == 0 && orientation.degenerate == 0) return;
-      next = trial.nextUnit;
+      nextUnit = trial.position + 1;
     }
     if (!improved) return;
   }

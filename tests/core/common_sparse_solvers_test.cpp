@@ -1,6 +1,6 @@
 // The sparse solvers of core/common: Cholesky with a shared elimination order, the supernodal
-// forward solve with sparse right-hand sides behind the parameterization's Schur complement, and
-// the normal equations of its least squares.
+// forward solve with sparse right-hand sides behind the parameterization's Schur complement, the
+// dense solve split by columns, and the normal equations of its least squares.
 
 #include <gtest/gtest.h>
 
@@ -115,6 +115,25 @@ TEST(SupernodalForwardSolve, GivesTheSchurComplementAndStaysSparse) {
     ASSERT_EQ(split.nonZeros(), w.nonZeros()) << threads << " threads";
     EXPECT_EQ(Eigen::MatrixXd(split), Eigen::MatrixXd(w)) << threads << " threads";
   }
+}
+
+TEST(SupernodalSolve, SolvesManyRightHandSidesTheSameOnAnyThreadCount) {
+  const int side = 50, n = side * side, columns = 11;
+  const SparseMatrix a = shiftedLaplacian(n, gridEdges(side), 1e-3);
+  Eigen::MatrixXd b(n, columns);
+  for (int j = 0; j < columns; ++j)
+    for (int i = 0; i < n; ++i) b(i, j) = std::sin(0.37 * i + 1.3 * j) + (i == 97 * j ? 5.0 : 0.0);
+  CholmodSupernodalFactorization<SparseMatrix> cholesky;
+  cholesky.compute(a);
+  ASSERT_EQ(cholesky.info(), Eigen::Success);
+  const Eigen::MatrixXd x = supernodalSolve(*cholesky.factor(), b);
+  ASSERT_EQ(x.rows(), n);
+  ASSERT_EQ(x.cols(), columns);
+  EXPECT_LT((a * x - b).cwiseAbs().maxCoeff(), 1e-9 * b.cwiseAbs().maxCoeff());
+  // The blocks of columns do not depend on the thread count: the same bits.
+  for (const int threads : {2, 3}) EXPECT_EQ(supernodalSolve(*cholesky.factor(), b, threads), x);
+  // A single column is one block.
+  EXPECT_EQ(supernodalSolve(*cholesky.factor(), b.col(4), 2), Eigen::MatrixXd(cholesky.solve(b.col(4))));
 }
 
 TEST(NormalEquations, EqualTheWeightedProductToTheLastBitForEveryWeighting) {
@@ -245,7 +264,7 @@ TEST(BlockFillReducingOrder, KeepsBlocksTogetherAndReducesFillLikeCholmodsOwnOrd
   EXPECT_THROW(blockFillReducingOrder(SparseMatrix(5, 5), 2), std::invalid_argument);
 }
 
-TEST(SupernodalForwardSolve, RefusesASimplicialFactorAndAWrongSize) {
+TEST(SupernodalForwardSolve, AndSolveRefuseASimplicialFactorAndAWrongSize) {
   const int side = 10, n = side * side;
   const SparseMatrix a = shiftedLaplacian(n, gridEdges(side), 1.0);
   SimplicialFactor simplicial;
@@ -258,6 +277,10 @@ TEST(SupernodalForwardSolve, RefusesASimplicialFactorAndAWrongSize) {
   supernodal.compute(a);
   ASSERT_EQ(supernodal.info(), Eigen::Success);
   EXPECT_THROW(supernodalForwardSolve(*supernodal.factor(), SparseMatrix(n + 1, 1)),
+               std::invalid_argument);
+  EXPECT_THROW(supernodalSolve(simplicial.factor(), Eigen::MatrixXd::Ones(n, 2)),
+               std::invalid_argument);
+  EXPECT_THROW(supernodalSolve(*supernodal.factor(), Eigen::MatrixXd::Ones(n + 1, 2)),
                std::invalid_argument);
 }
 
