@@ -1156,7 +1156,10 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     keepComponentsTooSmallForTheLattice(mesh, faceComponent, componentCount, options, out, report);
     result.triangles = buildMesh(out, report);
   }
-  {
+  // A remesh made only of components copied from the input (step 6) is the input as it is:
+  // neither fitted nor rid of slivers.
+  const bool onlyCopies = componentCount > 0 && report.componentsKept == componentCount;
+  if (!onlyCopies) {
     ScopedTimer timer(report.timings, "surface fit");
     context.report("extract", 0.8);
     context.throwIfCanceled();

@@ -32,7 +32,8 @@
 //    that close gets a sample of its own (its front vertex then has valence 7).
 // 6. Components of the input whose remesh has fewer triangles than one hexagon (6), or not the
 //    component's topology (Euler characteristic, boundary loops, one piece), are copied
-//    unchanged.
+//    unchanged. When every component is copied, steps 7 and 8 are skipped: the output is the
+//    input as it is.
 // 7. Fit (surface_fit.h): vertices move over the input surface where the lattice cuts off a
 //    sharp crease or tip (feature snapping), next to poor triangles (smoothing) and where the
 //    angles stray from 60° (relaxation), when that does not raise the local deviation from the

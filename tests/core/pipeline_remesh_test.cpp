@@ -242,6 +242,28 @@ TEST(PipelineRemesh, KeepsAComponentWhoseRemeshWouldChangeItsTopology) {
   EXPECT_EQ(result.metrics.topology.genus(), 0);
 }
 
+TEST(PipelineRemesh, ReturnsAMeshCopiedWholeAsItIs) {
+  // A torus of thin triangles (angles down to 18°) at an edge length that fits fewer lattice
+  // triangles than one hexagon's: the torus is copied, and its thin triangles are not smoothed.
+  const TriMesh torus = makeTorus(10.0, 1.0, 200, 6);
+  RemeshOptions options;
+  options.edgeLength = 20.0;
+  const RemeshResult result = remesh(toPolygonSoup(torus), options);
+  EXPECT_EQ(result.remesh.report.componentsKept, 1);
+  EXPECT_EQ(result.remesh.report.smoothedVertices, 0);
+  const TriMesh& out = result.remesh.triangles;
+  ASSERT_EQ(out.n_vertices(), torus.n_vertices());
+  ASSERT_EQ(out.n_faces(), torus.n_faces());
+  // The same points (the copy numbers them in the order of the faces).
+  const auto sortedPoints = [](const TriMesh& mesh) {
+    std::vector<std::array<double, 3>> points;
+    for (const auto v : mesh.vertices()) points.push_back({mesh.point(v)[0], mesh.point(v)[1], mesh.point(v)[2]});
+    std::sort(points.begin(), points.end());
+    return points;
+  };
+  EXPECT_TRUE(sortedPoints(out) == sortedPoints(torus));
+}
+
 TEST(PipelineRemesh, TargetVertexCountIsMetWithinTenPercent) {
   const PolygonSoup sphere = toPolygonSoup(makeIcosphere(4));
   for (const long long target : {300LL, 1500LL}) {
