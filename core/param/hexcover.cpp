@@ -883,7 +883,9 @@ SnappedCoordinates snapCoordinates(const TriMesh& mesh, const CutMesh& cm, const
   using Rotation = Eigen::Matrix<std::int64_t, 2, 2>;
   std::vector<Rotation> rotations(n);  // R^k, k = 0 … n − 1
   for (int k = 0; k < n; ++k) rotations[k] = latticeRotation(n, k).cast<std::int64_t>();
-  const auto rotation = [&](int k) -> const Rotation& { return rotations[((k % n) + n) % n]; };
+  const auto rotation = [&](int k) -> const Rotation& {
+    return rotations[k >= 0 && k < n ? k : ((k % n) + n) % n];
+  };
   s.wedge.resize(cm.wedgeVertex.size());
   for (std::size_t w = 0; w < cm.wedgeVertex.size(); ++w) {
     const int v = cm.wedgeVertex[w];
