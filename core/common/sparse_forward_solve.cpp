@@ -157,8 +157,8 @@ Eigen::MatrixXd supernodalSolve(const cholmod_factor& factor, const Eigen::Matri
           failed[block] = 1;
           return;
         }
-        x.middleCols(first, width) =
-            Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(solved->x), b.rows(), width);
+        x.middleCols(first, width) = Eigen::Map<const Eigen::MatrixXd>(
+            static_cast<const double*>(solved->x), b.rows(), width);
         cholmod_free_dense(&solved, &workspace.common());
       },
       1);

@@ -528,7 +528,7 @@ class SpdSolver {
   Eigen::MatrixXd solve(const Eigen::MatrixXd& b, int threads = 1) const {
     if (b.rows() == 0 || b.cols() == 0) return b;
     const cholmod_factor* factor = supernodalFactor();
-    Eigen::MatrixXd x = factor && b.cols() > 1        ? supernodalSolve(*factor, b, threads)
+    Eigen::MatrixXd x = factor && b.cols() > 1           ? supernodalSolve(*factor, b, threads)
                         : kind_ == LinearSolver::Cholmod ? Eigen::MatrixXd(cholmod_.solve(b))
                                                          : Eigen::MatrixXd(ldlt_.solve(b));
     if (!x.allFinite())
@@ -852,8 +852,7 @@ std::vector<std::int64_t> roundedFreeUnknowns(const Unknowns& u, const Eigen::Ve
 }
 
 // Value of integer scalar `scalar` (2·pair + j) from the rounded free unknowns.
-std::int64_t integerValue(const Unknowns& u, const std::vector<std::int64_t>& rounded,
-                          int scalar) {
+std::int64_t integerValue(const Unknowns& u, const std::vector<std::int64_t>& rounded, int scalar) {
   std::int64_t value = 0;
   for (const auto& [variable, c] : u.elimination.expression[scalar]) value += c * rounded[variable];
   return value;
@@ -947,10 +946,9 @@ Orientation countOrientation(const TriMesh& mesh, const CutMesh& cm, const Snapp
 // back-substitution per unknown with the last factorization) and keep a move when it leaves fewer
 // flipped triangles, or as many and fewer degenerate ones. At most four passes over at most 32
 // units each; the trial moves are judged on up to `threads` threads, with the same result.
-void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
-                    EnergySystem& system, int n, int threads, Eigen::VectorXd& x,
-                    SnappedCoordinates& snapped, Orientation& orientation,
-                    std::vector<bool>& flippedFaces) {
+void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u, EnergySystem& system,
+                    int n, int threads, Eigen::VectorXd& x, SnappedCoordinates& snapped,
+                    Orientation& orientation, std::vector<bool>& flippedFaces) {
   const auto units = roundingUnits(u);
   std::map<int, int> unitOfColumn;
   for (std::size_t i = 0; i < units.size(); ++i)
@@ -980,8 +978,8 @@ void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
     bool improved = false;
     for (std::size_t nextUnit = 0; nextUnit < order.size();) {
       struct Trial {
-        std::size_t position;  // of the unit in `order`
-        std::size_t firstResponse;
+        std::size_t position;       // of the unit in `order`
+        std::size_t firstResponse;  // index in `responses` of the unit's first unknown
         Eigen::Vector2d move;
       };
       std::vector<Trial> trials;

@@ -20,7 +20,8 @@ TEST(ParallelFor, VisitsEveryIndexOnceForAnyThreadCountAndChunk) {
     for (const int threads : {1, 2, 3})
       for (const std::size_t chunk : {std::size_t{1}, std::size_t{64}, std::size_t{2048}}) {
         const auto visits = std::make_unique<std::atomic<int>[]>(count);
-        parallelFor(count, threads, [&](std::size_t i) { ++visits[i]; }, chunk);
+        parallelFor(
+            count, threads, [&](std::size_t i) { ++visits[i]; }, chunk);
         int wrong = 0;
         for (std::size_t i = 0; i < count; ++i) wrong += visits[i] != 1;
         EXPECT_EQ(wrong, 0) << count << " indices, " << threads << " threads, chunks of " << chunk;
@@ -36,8 +37,10 @@ TEST(ParallelFor, GivesTheSameResultsWhenTheWorkPerIndexIsUneven) {
     return sum;
   };
   std::vector<double> one(count), two(count);
-  parallelFor(count, 1, [&](std::size_t i) { one[i] = work(i); }, 16);
-  parallelFor(count, 2, [&](std::size_t i) { two[i] = work(i); }, 16);
+  parallelFor(
+      count, 1, [&](std::size_t i) { one[i] = work(i); }, 16);
+  parallelFor(
+      count, 2, [&](std::size_t i) { two[i] = work(i); }, 16);
   EXPECT_EQ(one, two);
 }
 
@@ -60,10 +63,12 @@ TEST(ParallelFor, RethrowsTheWorksExceptionAfterEveryThreadIsDone) {
 TEST(RunBoth, RunsBothTasksAndPropagatesTheMainTasksException) {
   for (const int threads : {1, 2}) {
     bool mainRan = false, sideRan = false;
-    runBoth(threads, [&] { mainRan = true; }, [&] { sideRan = true; });
+    runBoth(
+        threads, [&] { mainRan = true; }, [&] { sideRan = true; });
     EXPECT_TRUE(mainRan && sideRan) << threads << " threads";
     sideRan = false;
-    EXPECT_THROW(runBoth(threads, [] { throw std::invalid_argument("main"); }, [&] { sideRan = true; }),
+    EXPECT_THROW(runBoth(
+                     threads, [] { throw std::invalid_argument("main"); }, [&] { sideRan = true; }),
                  std::invalid_argument);
     EXPECT_TRUE(sideRan) << threads << " threads";
   }

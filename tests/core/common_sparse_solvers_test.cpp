@@ -133,7 +133,8 @@ TEST(SupernodalSolve, SolvesManyRightHandSidesTheSameOnAnyThreadCount) {
   // The blocks of columns do not depend on the thread count: the same bits.
   for (const int threads : {2, 3}) EXPECT_EQ(supernodalSolve(*cholesky.factor(), b, threads), x);
   // A single column is one block.
-  EXPECT_EQ(supernodalSolve(*cholesky.factor(), b.col(4), 2), Eigen::MatrixXd(cholesky.solve(b.col(4))));
+  EXPECT_EQ(supernodalSolve(*cholesky.factor(), b.col(4), 2),
+            Eigen::MatrixXd(cholesky.solve(b.col(4))));
 }
 
 TEST(NormalEquations, EqualTheWeightedProductToTheLastBitForEveryWeighting) {

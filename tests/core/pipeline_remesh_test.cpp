@@ -257,7 +257,8 @@ TEST(PipelineRemesh, ReturnsAMeshCopiedWholeAsItIs) {
   // The same points (the copy numbers them in the order of the faces).
   const auto sortedPoints = [](const TriMesh& mesh) {
     std::vector<std::array<double, 3>> points;
-    for (const auto v : mesh.vertices()) points.push_back({mesh.point(v)[0], mesh.point(v)[1], mesh.point(v)[2]});
+    for (const auto v : mesh.vertices())
+      points.push_back({mesh.point(v)[0], mesh.point(v)[1], mesh.point(v)[2]});
     std::sort(points.begin(), points.end());
     return points;
   };
