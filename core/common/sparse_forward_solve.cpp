@@ -140,7 +140,6 @@ Eigen::MatrixXd supernodalSolve(const cholmod_factor& factor, const Eigen::Matri
   const int width0 = std::max(kSolveBlock, (columns + 1) / 2);
   const int blocks = (columns + width0 - 1) / width0;
   Eigen::MatrixXd x(b.rows(), b.cols());
-  std::vector<char> failed(blocks, 0);
   // The blocks do not depend on the thread count, so neither does any column's result.
   parallelFor(
       blocks, threads,
@@ -153,17 +152,13 @@ Eigen::MatrixXd supernodalSolve(const cholmod_factor& factor, const Eigen::Matri
         // cholmod_solve reads the factor only.
         cholmod_dense* solved = cholmod_solve(CHOLMOD_A, const_cast<cholmod_factor*>(&factor),
                                               &view, &workspace.common());
-        if (!solved) {
-          failed[block] = 1;
-          return;
-        }
+        if (!solved)
+          throw Error(ErrorCode::LimitExceeded, "out of memory in a sparse solve (CHOLMOD)");
         x.middleCols(first, width) = Eigen::Map<const Eigen::MatrixXd>(
             static_cast<const double*>(solved->x), b.rows(), width);
         cholmod_free_dense(&solved, &workspace.common());
       },
       1);
-  if (std::find(failed.begin(), failed.end(), 1) != failed.end())
-    throw Error(ErrorCode::LimitExceeded, "out of memory in a sparse solve (CHOLMOD)");
   return x;
 }
 

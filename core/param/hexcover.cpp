@@ -38,13 +38,13 @@ int mod(int a, int n) { return ((a % n) + n) % n; }
 // sign · R^rotation · y_pair, a term of a corner's coordinates.
 struct TranslationTerm {
   int pair = -1;
-  int rotation = 0;
+  int rotation = 0;  // in [0, n)
   int sign = 1;
 };
 
 // z_wedge = R^rotation · z_master + Σ terms.
 struct WedgeTransform {
-  int rotation = 0;
+  int rotation = 0;  // in [0, n)
   std::vector<TranslationTerm> terms;
 };
 
@@ -880,11 +880,8 @@ SnappedCoordinates snapCoordinates(const TriMesh& mesh, const CutMesh& cm, const
   const double scale = std::ldexp(1.0, s.exponent);
   for (auto& value : pairValue) value *= std::int64_t{1} << s.exponent;
   using Rotation = Eigen::Matrix<std::int64_t, 2, 2>;
-  std::vector<Rotation> rotations(n);  // R^k, k = 0 … n − 1
-  for (int k = 0; k < n; ++k) rotations[k] = latticeRotation(n, k).cast<std::int64_t>();
-  const auto rotation = [&](int k) -> const Rotation& {
-    return rotations[k >= 0 && k < n ? k : ((k % n) + n) % n];
-  };
+  std::vector<Rotation> rotation(n);  // R^k, k = 0 … n − 1 (the transforms' range)
+  for (int k = 0; k < n; ++k) rotation[k] = latticeRotation(n, k).cast<std::int64_t>();
   s.wedge.resize(cm.wedgeVertex.size());
   for (std::size_t w = 0; w < cm.wedgeVertex.size(); ++w) {
     const int v = cm.wedgeVertex[w];
@@ -894,11 +891,11 @@ SnappedCoordinates snapCoordinates(const TriMesh& mesh, const CutMesh& cm, const
       z = {pairValue[2 * cm.vertexPair[v]], pairValue[2 * cm.vertexPair[v] + 1]};
     else if (u.vertexColumn[v] >= 0)
       z = {std::llround(master[v].x() * scale), std::llround(master[v].y() * scale)};
-    z = rotation(transform.rotation) * z;
+    z = rotation[transform.rotation] * z;
     for (const auto& term : transform.terms) {
       const Eigen::Matrix<std::int64_t, 2, 1> y(pairValue[2 * term.pair],
                                                 pairValue[2 * term.pair + 1]);
-      z += term.sign * (rotation(term.rotation) * y);
+      z += term.sign * (rotation[term.rotation] * y);
     }
     s.wedge[w] = {z.x(), z.y()};
   }
@@ -958,10 +955,10 @@ void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u, E
   for (int pass = 0; pass < 4 && (orientation.flipped > 0 || orientation.degenerate > 0);
        ++pass) {
     std::set<int> involved;
-    for (const auto fh : mesh.faces()) {
-      if (!flippedFaces[fh.idx()] && !degenerateFaces[fh.idx()]) continue;
-      for (const auto h : mesh.fh_range(fh))
-        for (const auto& row : u.wedgeRows[cm.halfedgeWedge[h.idx()]])
+    for (std::size_t f = 0; f < cm.faceWedges.size(); ++f) {
+      if (!flippedFaces[f] && !degenerateFaces[f]) continue;
+      for (const int wedge : cm.faceWedges[f])
+        for (const auto& row : u.wedgeRows[wedge])
           for (const auto& [column, c] : row)
             if (const auto it = unitOfColumn.find(column); it != unitOfColumn.end())
               involved.insert(it->second);

@@ -65,8 +65,9 @@ struct ParamOptions {
   int maxStiffeningIterations = 10;
   /// CHOLMOD by default: with OpenBLAS it factorizes the bunny's system 2.6x faster (bench_param).
   LinearSolver solver = LinearSolver::Cholmod;
-  /// Threads: the conformal scale beside the setup (cut graph, system, ordering), and the Schur
-  /// complement's forward solve. The result is the same for any count. At least 1.
+  /// Threads: the conformal scale beside the setup (cut graph, system, ordering), the Schur
+  /// complement's forward solve, and the rounding repair's response solves and trial moves. The
+  /// result is the same for any count. At least 1.
   int threads = 2;
 
   /// Throws Error(InvalidOption) naming the first bad option.
