@@ -27,6 +27,9 @@ class NormalEquations {
   /// The pattern of AᵀA (both triangles), every stored value 0: that of every assembly.
   const Eigen::SparseMatrix<double>& pattern() const { return pattern_; }
 
+  /// A, row by row.
+  const Eigen::SparseMatrix<double, Eigen::RowMajor>& matrix() const { return rows_; }
+
  private:
   Eigen::SparseMatrix<double, Eigen::RowMajor> rows_;  ///< A, row by row
   std::vector<int> groupStart_;                        ///< with rows_.rows() appended

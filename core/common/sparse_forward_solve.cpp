@@ -1,8 +1,10 @@
 #include "core/common/sparse_forward_solve.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/common/concurrency.h"
@@ -44,44 +46,98 @@ struct SupernodalFactor {
   std::vector<int> position, supernodeOf, parent;
 };
 
-/// Solves the columns [begin, end) of B into triplets of W (Gilbert–Peierls on supernodes: only
-/// the supernodes on the elimination-tree paths from a column's rows to the root).
-void forwardSolveColumns(const SupernodalFactor& l, const Eigen::SparseMatrix<double>& b, int begin,
-                         int end, std::vector<Eigen::Triplet<double>>& triplets) {
-  std::vector<double> work(l.n, 0.0);
-  std::vector<char> inReach(l.supernodes, 0);
+/// Columns of B solved together: each supernode of their reach is read once for the group (a
+/// dense triangular solve and product on the columns that reach it) instead of once per column.
+/// At most 64 (a bit mask per supernode).
+constexpr int kForwardGroup = 32;
+
+/// Solves the columns `group` of B (Gilbert–Peierls on supernodes: only the supernodes on the
+/// elimination-tree paths from the columns' rows to the root) and appends W's nonzeros to
+/// `triplets`.
+void forwardSolveGroup(const SupernodalFactor& l, const Eigen::SparseMatrix<double>& b,
+                       const std::vector<int>& group,
+                       std::vector<Eigen::Triplet<double>>& triplets) {
+  // active[s]: bit t set when column group[t] reaches supernode s; the reach is closed towards
+  // the root, so a walk stops at the first supernode that has the bit already.
+  std::vector<std::uint64_t> active(l.supernodes, 0);
   std::vector<int> reach;
-  for (int j = begin; j < end; ++j) {
-    reach.clear();
-    for (Eigen::SparseMatrix<double>::InnerIterator it(b, j); it; ++it) {
-      const int k = l.position[it.row()];
-      work[k] += it.value();
-      for (int s = l.supernodeOf[k]; s >= 0 && !inReach[s]; s = l.parent[s]) {
-        inReach[s] = 1;
-        reach.push_back(s);
+  for (std::size_t t = 0; t < group.size(); ++t) {
+    const std::uint64_t bit = std::uint64_t{1} << t;
+    for (Eigen::SparseMatrix<double>::InnerIterator it(b, group[t]); it; ++it)
+      for (int s = l.supernodeOf[l.position[it.row()]]; s >= 0 && !(active[s] & bit);
+           s = l.parent[s]) {
+        if (!active[s]) reach.push_back(s);
+        active[s] |= bit;
       }
-    }
-    std::sort(reach.begin(), reach.end());  // a parent's index exceeds its children's
-    for (const int s : reach) {
-      const int first = l.firstColumn[s], columns = l.firstColumn[s + 1] - first;
-      const int rows = l.rowStart[s + 1] - l.rowStart[s];
-      const int* row = l.rowIndex + l.rowStart[s];      // row[c] = first + c for c < columns
-      const double* block = l.value + l.valueStart[s];  // column-major, leading dimension `rows`
-      for (int c = 0; c < columns; ++c) {  // x_c = (b_c − Σ_{c' < c} L(c, c') x_c') / L(c, c)
-        const double x = work[first + c] / block[c + c * rows];
-        work[first + c] = x;
-        if (x == 0.0) continue;
-        for (int i = c + 1; i < rows; ++i) work[row[i]] -= block[i + c * rows] * x;
-      }
-    }
-    for (const int s : reach) {  // every row that was written belongs to a supernode of the reach
-      for (int k = l.firstColumn[s]; k < l.firstColumn[s + 1]; ++k) {
-        if (work[k] != 0.0) triplets.emplace_back(k, j, work[k]);
-        work[k] = 0.0;
-      }
-      inReach[s] = 0;
-    }
   }
+  std::sort(reach.begin(), reach.end());  // a parent's index exceeds its children's
+  // The reach's rows, supernode after supernode, × the group's columns, dense.
+  std::vector<int> offset(l.supernodes, -1);
+  int height = 0;
+  for (const int s : reach) {
+    offset[s] = height;
+    height += l.firstColumn[s + 1] - l.firstColumn[s];
+  }
+  const auto compactRow = [&](int k) {
+    const int s = l.supernodeOf[k];
+    return offset[s] + k - l.firstColumn[s];
+  };
+  Eigen::MatrixXd x = Eigen::MatrixXd::Zero(height, static_cast<Eigen::Index>(group.size()));
+  for (std::size_t t = 0; t < group.size(); ++t)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(b, group[t]); it; ++it)
+      x(compactRow(l.position[it.row()]), static_cast<Eigen::Index>(t)) += it.value();
+
+  std::vector<int> columns, below;
+  Eigen::MatrixXd y, update;
+  for (const int s : reach) {
+    const int first = l.firstColumn[s], width = l.firstColumn[s + 1] - first;
+    const int rows = l.rowStart[s + 1] - l.rowStart[s];
+    const int* row = l.rowIndex + l.rowStart[s];  // row[c] = first + c for c < width
+    const Eigen::Map<const Eigen::MatrixXd> block(l.value + l.valueStart[s], rows, width);
+    columns.clear();
+    for (std::size_t t = 0; t < group.size(); ++t)
+      if (active[s] >> t & 1U) columns.push_back(static_cast<int>(t));
+    // y = L_ss⁻¹ x_s on the columns that reach s, then x_below −= L_below y.
+    y.resize(width, static_cast<Eigen::Index>(columns.size()));
+    for (std::size_t q = 0; q < columns.size(); ++q)
+      y.col(static_cast<Eigen::Index>(q)) = x.col(columns[q]).segment(offset[s], width);
+    block.topRows(width).triangularView<Eigen::Lower>().solveInPlace(y);
+    for (std::size_t q = 0; q < columns.size(); ++q)
+      x.col(columns[q]).segment(offset[s], width) = y.col(static_cast<Eigen::Index>(q));
+    if (rows == width) continue;
+    update.noalias() = block.bottomRows(rows - width) * y;
+    below.resize(rows - width);
+    for (int i = 0; i < rows - width; ++i) below[i] = compactRow(row[width + i]);
+    for (std::size_t q = 0; q < columns.size(); ++q)
+      for (int i = 0; i < rows - width; ++i)
+        x(below[i], columns[q]) -= update(i, static_cast<Eigen::Index>(q));
+  }
+  for (const int s : reach)
+    for (int k = l.firstColumn[s]; k < l.firstColumn[s + 1]; ++k)
+      for (std::size_t t = 0; t < group.size(); ++t)
+        if (const double value = x(compactRow(k), static_cast<Eigen::Index>(t)); value != 0.0)
+          triplets.emplace_back(k, group[t], value);
+}
+
+/// The columns of B in groups of up to kForwardGroup that reach similar supernodes: sorted by
+/// the first supernode of their rows (CHOLMOD postorders the supernodes, so nearby indices lie
+/// in one subtree, and their paths to the root soon merge).
+std::vector<std::vector<int>> forwardGroups(const SupernodalFactor& l,
+                                            const Eigen::SparseMatrix<double>& b) {
+  std::vector<std::pair<int, int>> keyed;  // (first supernode, column)
+  for (int j = 0; j < b.cols(); ++j) {
+    int first = l.supernodes;
+    for (Eigen::SparseMatrix<double>::InnerIterator it(b, j); it; ++it)
+      first = std::min(first, l.supernodeOf[l.position[it.row()]]);
+    keyed.emplace_back(first, j);
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<std::vector<int>> groups;
+  for (std::size_t i = 0; i < keyed.size(); ++i) {
+    if (i % kForwardGroup == 0) groups.emplace_back();
+    groups.back().push_back(keyed[i].second);
+  }
+  return groups;
 }
 
 void requireRealSupernodalLL(const cholmod_factor& factor, const char* caller) {
@@ -112,20 +168,16 @@ Eigen::SparseMatrix<double> supernodalForwardSolve(const cholmod_factor& factor,
   if (b.rows() != static_cast<Eigen::Index>(factor.n))
     throw std::invalid_argument("supernodalForwardSolve: the right-hand side has the wrong size");
   const SupernodalFactor l(factor);
-  // Each worker solves a contiguous range of columns into its own triplets, with its own
-  // workspace; columns are independent, so W does not depend on the split.
-  const int columns = static_cast<int>(b.cols());
-  const int workers = std::clamp(threads, 1, std::max(1, columns));
-  std::vector<std::vector<Eigen::Triplet<double>>> triplets(workers);
+  // The groups depend on B and the factor only, and each is solved on its own: W does not
+  // depend on the thread count.
+  const std::vector<std::vector<int>> groups = forwardGroups(l, b);
+  std::vector<std::vector<Eigen::Triplet<double>>> triplets(groups.size());
   parallelFor(
-      workers, workers,
-      [&](std::size_t w) {
-        forwardSolveColumns(l, b, static_cast<int>(columns * w / workers),
-                            static_cast<int>(columns * (w + 1) / workers), triplets[w]);
-      },
-      1);
-  for (std::size_t w = 1; w < triplets.size(); ++w)
-    triplets[0].insert(triplets[0].end(), triplets[w].begin(), triplets[w].end());
+      groups.size(), threads,
+      [&](std::size_t g) { forwardSolveGroup(l, b, groups[g], triplets[g]); }, 1);
+  for (std::size_t g = 1; g < triplets.size(); ++g)
+    triplets[0].insert(triplets[0].end(), triplets[g].begin(), triplets[g].end());
+  if (triplets.empty()) triplets.emplace_back();
   Eigen::SparseMatrix<double> result(l.n, b.cols());
   result.setFromTriplets(triplets[0].begin(), triplets[0].end());
   return result;
@@ -160,6 +212,29 @@ Eigen::MatrixXd supernodalSolve(const cholmod_factor& factor, const Eigen::Matri
       },
       1);
   return x;
+}
+
+LowRankUpdate::LowRankUpdate(const cholmod_factor& factor, Eigen::SparseMatrix<double> u,
+                             const Eigen::VectorXd& d, int threads)
+    : factor_(factor), u_(std::move(u)) {
+  requireRealSupernodalLL(factor, "LowRankUpdate");
+  if (u_.rows() != static_cast<Eigen::Index>(factor.n) || d.size() != u_.cols())
+    throw std::invalid_argument("LowRankUpdate: U or d has the wrong size");
+  if (!(d.array() > 0.0).all())
+    throw std::invalid_argument("LowRankUpdate: the update's weights must be positive");
+  const Eigen::SparseMatrix<double> w = supernodalForwardSolve(factor, u_, threads);
+  Eigen::MatrixXd c = Eigen::MatrixXd(Eigen::SparseMatrix<double>(w.transpose()) * w);
+  c.diagonal() += d.cwiseInverse();
+  capacitance_.compute(c);
+  if (capacitance_.info() != Eigen::Success)
+    throw Error(ErrorCode::NumericalFailure, "a low-rank update of a factorization failed");
+}
+
+Eigen::MatrixXd LowRankUpdate::solve(const Eigen::MatrixXd& b, int threads) const {
+  Eigen::MatrixXd x = supernodalSolve(factor_, b, threads);
+  if (u_.cols() == 0 || b.cols() == 0) return x;
+  const Eigen::MatrixXd correction = u_ * capacitance_.solve(Eigen::MatrixXd(u_.transpose() * x));
+  return x - supernodalSolve(factor_, correction, threads);
 }
 
 }  // namespace hexcover

@@ -1,12 +1,14 @@
 #pragma once
-// Forward substitution with a sparse right-hand side on CHOLMOD's supernodal factor, and solves
-// with many dense right-hand sides split between threads.
+// Forward substitution with a sparse right-hand side on CHOLMOD's supernodal factor, solves with
+// many dense right-hand sides split between threads, and solves after a low-rank update of the
+// factorized matrix.
 //
 // For P A Pᵀ = L Lᵀ, column j of W = L⁻¹ P B is nonzero only on the supernodes of the elimination
 // tree's paths from the rows of B(:, j) to the root (Gilbert and Peierls, on supernodes), which
 // on a mesh are a few separators: a small fraction of L. Then Bᵀ A⁻¹ B = Wᵀ W, the Schur
 // complement of a few columns without a dense solve through the whole factor.
 
+#include <Eigen/Cholesky>
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
 #include <vector>
@@ -60,5 +62,27 @@ inline constexpr int kSolveBlock = 4;
 /// CHOLMOD runs out of memory.
 Eigen::MatrixXd supernodalSolve(const cholmod_factor& factor, const Eigen::MatrixXd& b,
                                 int threads = 1);
+
+/// Solves with A = A₀ + U diag(d) Uᵀ, given the supernodal LLᵀ factor of A₀, a sparse U with few
+/// columns and d > 0, without factorizing A (Sherman–Morrison–Woodbury):
+///   A⁻¹ = A₀⁻¹ − A₀⁻¹ U C⁻¹ Uᵀ A₀⁻¹,   C = diag(d)⁻¹ + Uᵀ A₀⁻¹ U = diag(d)⁻¹ + Wᵀ W,
+/// with W = L⁻¹ P U from supernodalForwardSolve. A solve costs two solves with A₀'s factor; the
+/// setup, m sparse forward solves and an m×m Cholesky factorization (m = U's columns). Keeps a
+/// reference to the factor, which must outlive it unchanged.
+class LowRankUpdate {
+ public:
+  /// Throws std::invalid_argument for a factor that is not a real supernodal LLᵀ one, a U of the
+  /// wrong size or a d that is not positive.
+  LowRankUpdate(const cholmod_factor& factor, Eigen::SparseMatrix<double> u,
+                const Eigen::VectorXd& d, int threads = 1);
+
+  /// A⁻¹ B (B dense with factor.n rows), on up to `threads` threads (the same for any count).
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& b, int threads = 1) const;
+
+ private:
+  const cholmod_factor& factor_;
+  Eigen::SparseMatrix<double> u_;
+  Eigen::LLT<Eigen::MatrixXd> capacitance_;  // of C
+};
 
 }  // namespace hexcover

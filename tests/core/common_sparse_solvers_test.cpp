@@ -1,6 +1,7 @@
 // The sparse solvers of core/common: Cholesky with a shared elimination order, the supernodal
 // forward solve with sparse right-hand sides behind the parameterization's Schur complement, the
-// dense solve split by columns, and the normal equations of its least squares.
+// dense solve split by columns, the solve after a low-rank update, and the normal equations of
+// its least squares.
 
 #include <gtest/gtest.h>
 
@@ -115,6 +116,67 @@ TEST(SupernodalForwardSolve, GivesTheSchurComplementAndStaysSparse) {
     ASSERT_EQ(split.nonZeros(), w.nonZeros()) << threads << " threads";
     EXPECT_EQ(Eigen::MatrixXd(split), Eigen::MatrixXd(w)) << threads << " threads";
   }
+}
+
+TEST(SupernodalForwardSolve, SolvesManyColumnsInGroupsOfDifferentReach) {
+  // More columns than a group holds, on rows all over the grid: groups whose columns reach
+  // different supernodes, single-row and empty columns among them.
+  const int side = 70, n = side * side, columns = 150;
+  const SparseMatrix a = shiftedLaplacian(n, gridEdges(side), 1e-2);
+  std::vector<Eigen::Triplet<double>> triplets;
+  for (int j = 0; j < columns; ++j) {
+    if (j % 37 == 5) continue;  // empty
+    const int count = 1 + j % 3;
+    for (int t = 0; t < count; ++t)
+      triplets.emplace_back((j * 7919 + t * 131) % n, j, 1.0 + 0.1 * t - 0.01 * j);
+  }
+  SparseMatrix b(n, columns);
+  b.setFromTriplets(triplets.begin(), triplets.end());
+  CholmodSupernodalFactorization<SparseMatrix> cholesky;
+  cholesky.compute(a);
+  ASSERT_EQ(cholesky.info(), Eigen::Success);
+  const SparseMatrix w = supernodalForwardSolve(*cholesky.factor(), b, 2);
+  const Eigen::MatrixXd expected =
+      Eigen::MatrixXd(b).transpose() * cholesky.solve(Eigen::MatrixXd(b));
+  EXPECT_LT((Eigen::MatrixXd(SparseMatrix(w.transpose()) * w) - expected).cwiseAbs().maxCoeff(),
+            1e-9 * expected.cwiseAbs().maxCoeff());
+  for (int j = 5; j < columns; j += 37) EXPECT_EQ(w.col(j).nonZeros(), 0) << "column " << j;
+  EXPECT_EQ(Eigen::MatrixXd(supernodalForwardSolve(*cholesky.factor(), b, 1)), Eigen::MatrixXd(w));
+}
+
+TEST(LowRankUpdate, SolvesTheUpdatedMatrixWithoutRefactorizing) {
+  const int side = 40, n = side * side, rank = 9;
+  const SparseMatrix a0 = shiftedLaplacian(n, gridEdges(side), 1e-3);
+  // U: rows of two or three entries, like the crease rows of the parameterization; one empty.
+  std::vector<Eigen::Triplet<double>> triplets;
+  for (int q = 0; q < rank; ++q)
+    if (q != 4)
+      for (int t = 0; t < 2 + q % 2; ++t)
+        triplets.emplace_back((q * 613 + t * 17) % n, q, t == 0 ? 1.0 : -0.5 * t);
+  SparseMatrix u(n, rank);
+  u.setFromTriplets(triplets.begin(), triplets.end());
+  Eigen::VectorXd d(rank);
+  for (int q = 0; q < rank; ++q) d[q] = std::pow(10.0, q % 5 - 1);  // 0.1 to 1000
+  const SparseMatrix a = a0 + SparseMatrix(u * d.asDiagonal() * SparseMatrix(u.transpose()));
+
+  CholmodSupernodalFactorization<SparseMatrix> factor0;
+  factor0.compute(a0);
+  ASSERT_EQ(factor0.info(), Eigen::Success);
+  Eigen::MatrixXd b(n, 3);
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < n; ++i) b(i, j) = std::sin(0.13 * i + j) + (i == 613 ? 3.0 : 0.0);
+  const LowRankUpdate updated(*factor0.factor(), u, d);
+  const Eigen::MatrixXd x = updated.solve(b);
+  EXPECT_LT((a * x - b).norm(), 1e-9 * b.norm());
+  // Not the solution of the matrix without the update.
+  EXPECT_GT((a * factor0.solve(b) - b).norm(), 1e-3 * b.norm());
+  EXPECT_EQ(updated.solve(b, 2), x);
+  EXPECT_LT((updated.solve(b.col(1)) - x.col(1)).cwiseAbs().maxCoeff(),
+            1e-12 * x.cwiseAbs().maxCoeff());
+
+  EXPECT_THROW(LowRankUpdate(*factor0.factor(), u, -d), std::invalid_argument);
+  EXPECT_THROW(LowRankUpdate(*factor0.factor(), SparseMatrix(n + 1, rank), d),
+               std::invalid_argument);
 }
 
 TEST(SupernodalSolve, SolvesManyRightHandSidesTheSameOnAnyThreadCount) {
