@@ -26,41 +26,58 @@ double closestOnSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
 
 }  // namespace
 
-std::vector<std::vector<int>> traceBoundaryLoops(const std::vector<Triangle>& triangles) {
-  // Directed edge (u, v) -> the third vertex of its triangle.
-  std::unordered_map<std::uint64_t, int> apex;
-  apex.reserve(3 * triangles.size());
+DirectedEdges::DirectedEdges(const std::vector<Triangle>& triangles) {
+  int vertices = 0;
   for (const auto& t : triangles)
-    for (int k = 0; k < 3; ++k) apex.emplace(edgeKey(t[k], t[(k + 1) % 3]), t[(k + 2) % 3]);
+    for (const int v : t) vertices = std::max(vertices, v + 1);
+  first_.assign(static_cast<std::size_t>(vertices) + 1, 0);
+  for (const auto& t : triangles)
+    for (const int v : t) ++first_[v + 1];
+  for (int v = 0; v < vertices; ++v) first_[v + 1] += first_[v];
+  std::vector<int> next(first_.begin(), first_.end() - 1);
+  to_.resize(3 * triangles.size());
+  apex_.resize(3 * triangles.size());
+  slot_.resize(3 * triangles.size());
+  for (std::size_t t = 0; t < triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int e = next[triangles[t][k]]++;
+      to_[e] = triangles[t][(k + 1) % 3];
+      apex_[e] = triangles[t][(k + 2) % 3];
+      slot_[3 * t + k] = e;
+    }
+}
 
+std::vector<std::vector<int>> traceBoundaryLoops(const std::vector<Triangle>& triangles) {
+  const DirectedEdges edges(triangles);
   std::vector<std::array<int, 2>> boundaryEdges;
   for (const auto& t : triangles)
     for (int k = 0; k < 3; ++k)
-      if (!apex.count(edgeKey(t[(k + 1) % 3], t[k]))) boundaryEdges.push_back({t[k], t[(k + 1) % 3]});
+      if (edges.find(t[(k + 1) % 3], t[k]) < 0) boundaryEdges.push_back({t[k], t[(k + 1) % 3]});
 
   // The boundary edge that follows (u, v): rotate about v through the fan of (u, v)'s triangle.
   // A set that breaks the precondition (a directed edge in two triangles) can make the rotation
   // cycle without reaching a boundary edge: after as many steps as there are triangles, there is
   // none, and the loop ends there.
   const auto nextEdge = [&](int u, int v) -> std::optional<std::array<int, 2>> {
-    int w = apex.at(edgeKey(u, v));
+    int w = edges.apex(edges.find(u, v));
     for (std::size_t step = 0; step < triangles.size(); ++step) {
-      const auto across = apex.find(edgeKey(w, v));
-      if (across == apex.end()) return std::array<int, 2>{v, w};
-      w = across->second;
+      const int across = edges.find(w, v);
+      if (across < 0) return std::array<int, 2>{v, w};
+      w = edges.apex(across);
     }
     return std::nullopt;
   };
 
-  std::unordered_map<std::uint64_t, bool> used;
-  used.reserve(boundaryEdges.size());
+  std::vector<char> used(edges.size(), 0);  // per directed edge (its first occurrence)
   std::vector<std::vector<int>> loops;
   for (const auto& start : boundaryEdges) {
-    if (used.count(edgeKey(start[0], start[1]))) continue;
+    if (used[edges.find(start[0], start[1])]) continue;
     std::vector<int> loop;
     std::optional<std::array<int, 2>> edge = start;
-    while (edge && !used.count(edgeKey((*edge)[0], (*edge)[1]))) {
-      used.emplace(edgeKey((*edge)[0], (*edge)[1]), true);
+    while (edge) {
+      char& seen = used[edges.find((*edge)[0], (*edge)[1])];
+      if (seen) break;
+      seen = 1;
       loop.push_back((*edge)[0]);
       edge = nextEdge((*edge)[0], (*edge)[1]);
     }

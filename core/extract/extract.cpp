@@ -410,26 +410,28 @@ std::vector<int> faceComponents(const TriMesh& mesh, int& count) {
 /// Step 4a: drops triangles with a repeated corner and triangles that reuse a directed edge
 /// (a lattice triangle covered twice, or overlapping ones at a fold), keeping the first.
 void dropDegenerateAndOverlapping(std::vector<Triangle>& triangles, ExtractionReport& report) {
-  std::unordered_map<std::uint64_t, bool> used;
-  used.reserve(3 * triangles.size());
-  const auto key = [](int u, int v) {
-    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(u)) << 32) |
-           static_cast<std::uint32_t>(v);
+  const DirectedEdges edges(triangles);
+  std::vector<char> used(edges.size(), 0);  // per directed edge: in a kept triangle
+  const auto isUsed = [&](int u, int v) {
+    for (int e = edges.begin(u); e < edges.end(u); ++e)
+      if (edges.to(e) == v && used[e]) return true;
+    return false;
   };
   std::vector<Triangle> kept;
   kept.reserve(triangles.size());
-  for (const auto& t : triangles) {
+  for (std::size_t i = 0; i < triangles.size(); ++i) {
+    const Triangle& t = triangles[i];
     if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) {
       ++report.degenerateTriangles;
       continue;
     }
     bool overlaps = false;
-    for (int k = 0; k < 3; ++k) overlaps = overlaps || used.count(key(t[k], t[(k + 1) % 3]));
+    for (int k = 0; k < 3; ++k) overlaps = overlaps || isUsed(t[k], t[(k + 1) % 3]);
     if (overlaps) {
       ++report.overlappingTriangles;
       continue;
     }
-    for (int k = 0; k < 3; ++k) used.emplace(key(t[k], t[(k + 1) % 3]), true);
+    for (int k = 0; k < 3; ++k) used[edges.edgeOf(i, k)] = 1;
     kept.push_back(t);
   }
   triangles = std::move(kept);

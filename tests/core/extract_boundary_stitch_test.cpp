@@ -1,5 +1,6 @@
 // The strip between a lattice front and the samples of an input boundary loop
-// (core/extract/boundary.h, stitchStrip), and the boundary loops of a triangle set.
+// (core/extract/boundary.h, stitchStrip), and the directed edges and boundary loops of a
+// triangle set.
 
 #include <gtest/gtest.h>
 
@@ -12,6 +13,29 @@
 
 namespace hexcover::extract_detail {
 namespace {
+
+// Every directed edge is found from its first vertex, the first occurrence (in triangle order)
+// where a set reuses one, with the third vertex of that occurrence's triangle.
+TEST(DirectedEdges, FindTheFirstTriangleOfEachEdge) {
+  const std::vector<Triangle> triangles = {{0, 1, 2}, {2, 1, 3}, {5, 0, 1}};
+  const DirectedEdges edges(triangles);
+  ASSERT_EQ(edges.size(), 9u);
+  for (std::size_t t = 0; t < triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int e = edges.edgeOf(t, k);
+      EXPECT_EQ(edges.to(e), triangles[t][(k + 1) % 3]);
+      EXPECT_EQ(edges.apex(e), triangles[t][(k + 2) % 3]);
+      EXPECT_GE(e, edges.begin(triangles[t][k]));
+      EXPECT_LT(e, edges.end(triangles[t][k]));
+    }
+  EXPECT_EQ(edges.find(0, 1), edges.edgeOf(0, 0));  // not triangle 2's reuse of 0 → 1
+  EXPECT_EQ(edges.apex(edges.find(0, 1)), 2);
+  EXPECT_EQ(edges.apex(edges.find(1, 2)), 0);
+  EXPECT_EQ(edges.find(1, 0), -1);
+  EXPECT_EQ(edges.find(4, 0), -1);  // a vertex without edges
+  EXPECT_EQ(edges.find(9, 0), -1);  // beyond the set's vertices
+  EXPECT_EQ(edges.begin(-1), edges.end(-1));
+}
 
 // A closed fan of three triangles around vertex 0 and a fourth triangle (4, 0, 1) that reuses
 // the fan's directed edge 0 → 1: the rotation about 0 from the boundary edge 4 → 0 enters the
