@@ -8,7 +8,6 @@
 #include <numeric>
 #include <string>
 #include <unordered_map>
-#include <unordered_set>
 
 #include "core/common/error.h"
 #include "core/extract/boundary.h"
@@ -899,32 +898,35 @@ void closeBoundaries(const TriMesh& mesh, const std::vector<int>& faceComponent,
 /// Vertices whose triangles do not form a single fan: their link (the edge opposite the vertex
 /// in each triangle) is not one path or one cycle.
 std::vector<int> nonManifoldVertices(const std::vector<Triangle>& triangles, std::size_t vertexCount) {
-  std::vector<std::vector<std::array<int, 2>>> link(vertexCount);
-  for (const auto& t : triangles)
-    for (int k = 0; k < 3; ++k) link[t[k]].push_back({t[(k + 1) % 3], t[(k + 2) % 3]});
+  // v's link edges are its outgoing directed edges (v, b) with their apex c: the edge b → c.
+  const DirectedEdges edges(triangles);
   std::vector<int> bad;
   for (std::size_t v = 0; v < vertexCount; ++v) {
-    const auto& edges = link[v];
-    if (edges.size() < 2) continue;
+    const int first = edges.begin(static_cast<int>(v)), last = edges.end(static_cast<int>(v));
+    const int count = last - first;
+    if (count < 2) continue;
     const auto next = [&](int a) {
-      for (const auto& e : edges)
-        if (e[0] == a) return e[1];
+      for (int e = first; e < last; ++e)
+        if (edges.to(e) == a) return edges.apex(e);
       return -1;
     };
+    const auto incoming = [&](int a) {
+      for (int e = first; e < last; ++e)
+        if (edges.apex(e) == a) return true;
+      return false;
+    };
     // Start at a link vertex without an incoming edge (the fan's first edge) if there is one.
-    int start = edges[0][0], starts = 0;
-    for (const auto& e : edges) {
-      const bool incoming = std::any_of(edges.begin(), edges.end(), [&](auto& f) { return f[1] == e[0]; });
-      if (!incoming) start = e[0], ++starts;
-    }
-    std::size_t walked = 0;
-    for (int a = start; walked <= edges.size();) {
+    int start = edges.to(first), starts = 0;
+    for (int e = first; e < last; ++e)
+      if (!incoming(edges.to(e))) start = edges.to(e), ++starts;
+    int walked = 0;
+    for (int a = start; walked <= count;) {
       a = next(a);
       if (a < 0) break;
       ++walked;
       if (a == start) break;
     }
-    if (starts > 1 || walked != edges.size()) bad.push_back(static_cast<int>(v));
+    if (starts > 1 || walked != count) bad.push_back(static_cast<int>(v));
   }
   return bad;
 }
@@ -974,18 +976,19 @@ SoupTopology soupTopology(const std::vector<Triangle>& triangles, std::size_t ve
   for (const auto& t : triangles)
     for (const int v : t)
       if (parent[v] < 0) parent[v] = v, ++vertices;
-  std::unordered_set<std::uint64_t> edges;
-  edges.reserve(2 * triangles.size());
-  for (const auto& t : triangles)
+  // Undirected edges: each directed edge (its first occurrence) whose reverse is absent, or
+  // that runs upwards (u ≤ v).
+  const DirectedEdges directed(triangles);
+  long long edges = 0;
+  for (std::size_t i = 0; i < triangles.size(); ++i)
     for (int k = 0; k < 3; ++k) {
-      const auto a = static_cast<std::uint32_t>(std::min(t[k], t[(k + 1) % 3]));
-      const auto b = static_cast<std::uint32_t>(std::max(t[k], t[(k + 1) % 3]));
-      edges.insert(std::uint64_t{a} << 32 | b);
-      parent[root(t[k])] = root(t[(k + 1) % 3]);
+      const int u = triangles[i][k], v = triangles[i][(k + 1) % 3];
+      parent[root(u)] = root(v);
+      if (directed.find(u, v) != directed.edgeOf(i, k)) continue;
+      if (u <= v || directed.find(v, u) < 0) ++edges;
     }
   SoupTopology topology;
-  topology.euler = vertices - static_cast<long long>(edges.size()) +
-                   static_cast<long long>(triangles.size());
+  topology.euler = vertices - edges + static_cast<long long>(triangles.size());
   topology.boundaryLoops = traceBoundaryLoops(triangles).size();
   for (std::size_t v = 0; v < vertexCount; ++v)
     topology.pieces += parent[v] == static_cast<int>(v) ? 1 : 0;
