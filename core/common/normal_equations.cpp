@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/common/concurrency.h"
+
 namespace hexcover {
 namespace {
 
@@ -48,10 +50,31 @@ NormalEquations::NormalEquations(const Eigen::SparseMatrix<double>& a,
   std::fill(pattern_.valuePtr(), pattern_.valuePtr() + inner.size(), 0.0);
 }
 
-Eigen::SparseMatrix<double> NormalEquations::assemble(const Eigen::VectorXd& rowWeight) const {
+Eigen::SparseMatrix<double> NormalEquations::assemble(const Eigen::VectorXd& rowWeight,
+                                                      int threads) const {
   if (rowWeight.size() != rows_.rows())
     throw std::invalid_argument("NormalEquations: one weight per row is needed");
   Eigen::SparseMatrix<double> result = pattern_;
+  // Each worker sums the entries of its own range of result columns (about equal numbers of
+  // entries), over every group that reaches them: every entry is summed by one worker, in the
+  // same order as by one thread.
+  const int n = static_cast<int>(result.cols());
+  const int workers = std::clamp(threads, 1, std::max(1, n));
+  std::vector<int> bound(workers + 1, n);
+  bound[0] = 0;
+  for (int w = 1; w < workers; ++w)
+    bound[w] =
+        static_cast<int>(std::lower_bound(result.outerIndexPtr(), result.outerIndexPtr() + n,
+                                          static_cast<long long>(result.nonZeros()) * w / workers) -
+                         result.outerIndexPtr());
+  parallelFor(
+      workers, workers,
+      [&](std::size_t w) { assembleColumns(rowWeight, bound[w], bound[w + 1], result); }, 1);
+  return result;
+}
+
+void NormalEquations::assembleColumns(const Eigen::VectorXd& rowWeight, int firstColumn,
+                                      int endColumn, Eigen::SparseMatrix<double>& result) const {
   double* value = result.valuePtr();
   const int* outer = result.outerIndexPtr();
   const int* inner = result.innerIndexPtr();
@@ -61,6 +84,7 @@ Eigen::SparseMatrix<double> NormalEquations::assemble(const Eigen::VectorXd& row
   for (int g = 0; g < groups; ++g) {
     const int begin = groupStart_[g], end = groupStart_[g + 1];
     groupColumns(rows_, begin, end, columns);
+    if (columns.empty() || columns.back() < firstColumn || columns.front() >= endColumn) continue;
     const int m = static_cast<int>(columns.size());
     // position[p·m + q]: where entry (columns[p], columns[q]) of the result is stored, looked
     // up when a row first needs it (two columns of a group need not share a row).
@@ -85,12 +109,13 @@ Eigen::SparseMatrix<double> NormalEquations::assemble(const Eigen::VectorXd& row
             columns.begin()));
         scaled.push_back(it.value() * scale);
       }
-      for (std::size_t a = 0; a < local.size(); ++a)
-        for (std::size_t b = 0; b < local.size(); ++b)
+      for (std::size_t b = 0; b < local.size(); ++b) {
+        if (columns[local[b]] < firstColumn || columns[local[b]] >= endColumn) continue;
+        for (std::size_t a = 0; a < local.size(); ++a)
           value[at(local[a], local[b])] += scaled[a] * scaled[b];
+      }
     }
   }
-  return result;
 }
 
 }  // namespace hexcover

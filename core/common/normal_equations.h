@@ -7,7 +7,8 @@
 // is found once, and an assembly adds each row's outer product where it belongs, looking the
 // places up once per group of rows: the same values to the last bit. On the parameterization of
 // a 1.1M-face mesh (6 rows per face): 1.3 s for the pattern, then 1.0-1.5 s per assembly,
-// against 4.1-4.4 s per product.
+// against 4.1-4.4 s per product. Two threads sum disjoint ranges of columns (the Stanford
+// bunny's parameterization: 0.11-0.12 → 0.065-0.08 s).
 #include <Eigen/SparseCore>
 #include <vector>
 
@@ -21,8 +22,9 @@ class NormalEquations {
   /// decrease.
   NormalEquations(const Eigen::SparseMatrix<double>& a, const std::vector<int>& groupStart);
 
-  /// AᵀWA (both triangles) for W = diag(rowWeight) (#rows of A).
-  Eigen::SparseMatrix<double> assemble(const Eigen::VectorXd& rowWeight) const;
+  /// AᵀWA (both triangles) for W = diag(rowWeight) (#rows of A), on up to `threads` threads
+  /// (the same values for any count).
+  Eigen::SparseMatrix<double> assemble(const Eigen::VectorXd& rowWeight, int threads = 1) const;
 
   /// The pattern of AᵀA (both triangles), every stored value 0: that of every assembly.
   const Eigen::SparseMatrix<double>& pattern() const { return pattern_; }
@@ -31,6 +33,10 @@ class NormalEquations {
   const Eigen::SparseMatrix<double, Eigen::RowMajor>& matrix() const { return rows_; }
 
  private:
+  /// Adds the entries of `result`'s columns [firstColumn, endColumn) of AᵀWA.
+  void assembleColumns(const Eigen::VectorXd& rowWeight, int firstColumn, int endColumn,
+                       Eigen::SparseMatrix<double>& result) const;
+
   Eigen::SparseMatrix<double, Eigen::RowMajor> rows_;  ///< A, row by row
   std::vector<int> groupStart_;                        ///< with rows_.rows() appended
   Eigen::SparseMatrix<double> pattern_;                ///< AᵀA's pattern, values 0

@@ -610,7 +610,7 @@ class EnergySystem {
       z_ = solver_.solve(b.head(r));
       return;
     }
-    const SparseMatrix a = normal_.assemble(rowWeight);
+    const SparseMatrix a = normal_.assemble(rowWeight, threads_);
     const int k = static_cast<int>(a.cols()) - realCount_;
     ari_ = a.topRightCorner(r, k);
     z_ = b.head(r);
@@ -832,7 +832,7 @@ class EnergySystem {
   const LeastSquares& ls_;
   NormalEquations normal_;  // AᵀWA for the face weights of each solve
   int realCount_;
-  int threads_;  ///< of the forward solve
+  int threads_;  ///< of the assembly, the forward solve and the responses
   SpdSolver solver_;
   SparseMatrix ari_;       // A_ri
   Eigen::VectorXd factorRowWeight_;  // the row weights of the last factorization

@@ -231,6 +231,13 @@ TEST(NormalEquations, EqualTheWeightedProductToTheLastBitForEveryWeighting) {
     for (int col = 0; col < columns; ++col)
       for (SparseMatrix::InnerIterator it(expected, col); it; ++it)
         EXPECT_EQ(assembled.coeff(it.row(), col), it.value()) << it.row() << ", " << col;
+    // Split between threads by columns: the same values.
+    for (const int threads : {2, 3, 7}) {
+      const SparseMatrix split = normal.assemble(weight, threads);
+      ASSERT_EQ(split.nonZeros(), assembled.nonZeros());
+      for (Eigen::Index k = 0; k < split.nonZeros(); ++k)
+        ASSERT_EQ(split.valuePtr()[k], assembled.valuePtr()[k]) << threads << " threads";
+    }
     // pattern(): the assembly's places, in the same order, every value 0 (the parameterization
     // analyzes its system on it before the weights are known).
     const SparseMatrix& pattern = normal.pattern();
