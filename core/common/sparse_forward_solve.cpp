@@ -87,30 +87,30 @@ void forwardSolveGroup(const SupernodalFactor& l, const Eigen::SparseMatrix<doub
     for (Eigen::SparseMatrix<double>::InnerIterator it(b, group[t]); it; ++it)
       x(compactRow(l.position[it.row()]), static_cast<Eigen::Index>(t)) += it.value();
 
-  std::vector<int> columns, below;
+  std::vector<int> reaching, below;  // the group's columns that reach s; rows below s in x
   Eigen::MatrixXd y, update;
   for (const int s : reach) {
     const int first = l.firstColumn[s], width = l.firstColumn[s + 1] - first;
     const int rows = l.rowStart[s + 1] - l.rowStart[s];
     const int* row = l.rowIndex + l.rowStart[s];  // row[c] = first + c for c < width
     const Eigen::Map<const Eigen::MatrixXd> block(l.value + l.valueStart[s], rows, width);
-    columns.clear();
+    reaching.clear();
     for (std::size_t t = 0; t < group.size(); ++t)
-      if (active[s] >> t & 1U) columns.push_back(static_cast<int>(t));
+      if (active[s] >> t & 1U) reaching.push_back(static_cast<int>(t));
     // y = L_ss⁻¹ x_s on the columns that reach s, then x_below −= L_below y.
-    y.resize(width, static_cast<Eigen::Index>(columns.size()));
-    for (std::size_t q = 0; q < columns.size(); ++q)
-      y.col(static_cast<Eigen::Index>(q)) = x.col(columns[q]).segment(offset[s], width);
+    y.resize(width, static_cast<Eigen::Index>(reaching.size()));
+    for (std::size_t q = 0; q < reaching.size(); ++q)
+      y.col(static_cast<Eigen::Index>(q)) = x.col(reaching[q]).segment(offset[s], width);
     block.topRows(width).triangularView<Eigen::Lower>().solveInPlace(y);
-    for (std::size_t q = 0; q < columns.size(); ++q)
-      x.col(columns[q]).segment(offset[s], width) = y.col(static_cast<Eigen::Index>(q));
+    for (std::size_t q = 0; q < reaching.size(); ++q)
+      x.col(reaching[q]).segment(offset[s], width) = y.col(static_cast<Eigen::Index>(q));
     if (rows == width) continue;
     update.noalias() = block.bottomRows(rows - width) * y;
     below.resize(rows - width);
     for (int i = 0; i < rows - width; ++i) below[i] = compactRow(row[width + i]);
-    for (std::size_t q = 0; q < columns.size(); ++q)
+    for (std::size_t q = 0; q < reaching.size(); ++q)
       for (int i = 0; i < rows - width; ++i)
-        x(below[i], columns[q]) -= update(i, static_cast<Eigen::Index>(q));
+        x(below[i], reaching[q]) -= update(i, static_cast<Eigen::Index>(q));
   }
   for (const int s : reach)
     for (int k = l.firstColumn[s]; k < l.firstColumn[s + 1]; ++k)
@@ -175,11 +175,10 @@ Eigen::SparseMatrix<double> supernodalForwardSolve(const cholmod_factor& factor,
   parallelFor(
       groups.size(), threads,
       [&](std::size_t g) { forwardSolveGroup(l, b, groups[g], triplets[g]); }, 1);
-  for (std::size_t g = 1; g < triplets.size(); ++g)
-    triplets[0].insert(triplets[0].end(), triplets[g].begin(), triplets[g].end());
-  if (triplets.empty()) triplets.emplace_back();
+  std::vector<Eigen::Triplet<double>> all;
+  for (const auto& part : triplets) all.insert(all.end(), part.begin(), part.end());
   Eigen::SparseMatrix<double> result(l.n, b.cols());
-  result.setFromTriplets(triplets[0].begin(), triplets[0].end());
+  result.setFromTriplets(all.begin(), all.end());
   return result;
 }
 

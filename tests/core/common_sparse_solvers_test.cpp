@@ -174,6 +174,10 @@ TEST(LowRankUpdate, SolvesTheUpdatedMatrixWithoutRefactorizing) {
   EXPECT_LT((updated.solve(b.col(1)) - x.col(1)).cwiseAbs().maxCoeff(),
             1e-12 * x.cwiseAbs().maxCoeff());
 
+  // No columns: the solve of A₀ itself.
+  const LowRankUpdate none(*factor0.factor(), SparseMatrix(n, 0), Eigen::VectorXd(0));
+  EXPECT_LT((a0 * none.solve(b) - b).norm(), 1e-9 * b.norm());
+
   EXPECT_THROW(LowRankUpdate(*factor0.factor(), u, -d), std::invalid_argument);
   EXPECT_THROW(LowRankUpdate(*factor0.factor(), SparseMatrix(n + 1, rank), d),
                std::invalid_argument);
