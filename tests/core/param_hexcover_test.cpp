@@ -564,6 +564,26 @@ TEST(HexCover, CreasesOfTheFieldLieOnLatticeLines) {
   EXPECT_GT(meanCreaseOffsetFromLatticeLines(box, field, without), 3.0 * offset);
 }
 
+TEST(HexCover, CreaseRowsAddedByALowRankUpdateGiveTheRefactorizedMap) {
+  // Few enough crease edges that CHOLMOD's final solve takes them by a low-rank update of the
+  // factorization; SimplicialLDLT factorizes the system with them again. The same map.
+  const TriMesh box = makeBox(1.0, 0.8, 0.6, 4);
+  FieldOptions fieldOptions = latticeFieldOptions();
+  fieldOptions.sharpEdgeAngle = 60.0;
+  const RosyField field = computeRosyField(box, fieldOptions);
+  ASSERT_FALSE(field.sharpEdges.empty());
+  ParamOptions options;
+  options.edgeLength = 0.13;
+  const Parameterization updated = computeParameterization(box, field, options);
+  options.solver = LinearSolver::SimplicialLDLT;
+  const Parameterization refactorized = computeParameterization(box, field, options);
+  ASSERT_EQ(updated.cornerCoords.size(), refactorized.cornerCoords.size());
+  for (std::size_t c = 0; c < updated.cornerCoords.size(); ++c)
+    ASSERT_LT((updated.cornerCoords[c] - refactorized.cornerCoords[c]).norm(), 1e-7) << c;
+  EXPECT_NEAR(updated.energy, refactorized.energy, 1e-9 * refactorized.energy);
+  EXPECT_LT(meanCreaseOffsetFromLatticeLines(box, field, updated), 0.05);
+}
+
 TEST(HexCover, OneThreadAndTwoGiveTheSameMap) {
   // With two threads the conformal scale is solved while the cut graph and the system's
   // analysis are built; the creases' weights and the targets follow from it afterwards.
