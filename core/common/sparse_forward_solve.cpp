@@ -182,6 +182,12 @@ Eigen::SparseMatrix<double> supernodalForwardSolve(const cholmod_factor& factor,
   return result;
 }
 
+Eigen::MatrixXd supernodalInverseForm(const cholmod_factor& factor,
+                                      const Eigen::SparseMatrix<double>& b, int threads) {
+  const Eigen::SparseMatrix<double> w = supernodalForwardSolve(factor, b, threads);
+  return Eigen::MatrixXd(Eigen::SparseMatrix<double>(w.transpose()) * w);
+}
+
 Eigen::MatrixXd supernodalSolve(const cholmod_factor& factor, const Eigen::MatrixXd& b,
                                 int threads) {
   requireRealSupernodalLL(factor, "supernodalSolve");
@@ -221,8 +227,7 @@ LowRankUpdate::LowRankUpdate(const cholmod_factor& factor, Eigen::SparseMatrix<d
     throw std::invalid_argument("LowRankUpdate: U or d has the wrong size");
   if (!(d.array() > 0.0).all())
     throw std::invalid_argument("LowRankUpdate: the update's weights must be positive");
-  const Eigen::SparseMatrix<double> w = supernodalForwardSolve(factor, u_, threads);
-  Eigen::MatrixXd c = Eigen::MatrixXd(Eigen::SparseMatrix<double>(w.transpose()) * w);
+  Eigen::MatrixXd c = supernodalInverseForm(factor, u_, threads);
   c.diagonal() += d.cwiseInverse();
   capacitance_.compute(c);
   if (capacitance_.info() != Eigen::Success)

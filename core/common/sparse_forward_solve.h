@@ -52,6 +52,11 @@ Eigen::SparseMatrix<double> supernodalForwardSolve(const cholmod_factor& factor,
                                                    const Eigen::SparseMatrix<double>& b,
                                                    int threads = 1);
 
+/// Bᵀ A⁻¹ B = Wᵀ W (dense, B's columns square) from W = supernodalForwardSolve(factor, b,
+/// threads); the same exceptions.
+Eigen::MatrixXd supernodalInverseForm(const cholmod_factor& factor,
+                                      const Eigen::SparseMatrix<double>& b, int threads = 1);
+
 /// Columns per CHOLMOD solve in supernodalSolve.
 inline constexpr int kSolveBlock = 4;
 

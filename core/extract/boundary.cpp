@@ -10,11 +10,6 @@
 namespace hexcover::extract_detail {
 namespace {
 
-std::uint64_t edgeKey(int from, int to) {
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(from)) << 32) |
-         static_cast<std::uint32_t>(to);
-}
-
 /// Closest point on segment [a, b] to p: returns the parameter in [0, 1].
 double closestOnSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                         const Eigen::Vector3d& b) {
@@ -48,7 +43,11 @@ DirectedEdges::DirectedEdges(const std::vector<Triangle>& triangles) {
 }
 
 std::vector<std::vector<int>> traceBoundaryLoops(const std::vector<Triangle>& triangles) {
-  const DirectedEdges edges(triangles);
+  return traceBoundaryLoops(triangles, DirectedEdges(triangles));
+}
+
+std::vector<std::vector<int>> traceBoundaryLoops(const std::vector<Triangle>& triangles,
+                                                 const DirectedEdges& edges) {
   std::vector<std::array<int, 2>> boundaryEdges;
   for (const auto& t : triangles)
     for (int k = 0; k < 3; ++k)

@@ -54,6 +54,9 @@ class DirectedEdges {
 /// loops start at the first boundary edge in triangle order. A set that reuses a directed edge
 /// may give open stretches instead of loops, but the trace ends.
 std::vector<std::vector<int>> traceBoundaryLoops(const std::vector<Triangle>& triangles);
+/// The same with the triangles' directed edges already at hand.
+std::vector<std::vector<int>> traceBoundaryLoops(const std::vector<Triangle>& triangles,
+                                                 const DirectedEdges& edges);
 
 /// The input surface's boundary loops as polylines, with a uniform grid for nearest-point queries.
 class BoundaryIndex {

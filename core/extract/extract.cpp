@@ -989,7 +989,7 @@ SoupTopology soupTopology(const std::vector<Triangle>& triangles, std::size_t ve
     }
   SoupTopology topology;
   topology.euler = vertices - edges + static_cast<long long>(triangles.size());
-  topology.boundaryLoops = traceBoundaryLoops(triangles).size();
+  topology.boundaryLoops = traceBoundaryLoops(triangles, directed).size();
   for (std::size_t v = 0; v < vertexCount; ++v)
     topology.pieces += parent[v] == static_cast<int>(v) ? 1 : 0;
   return topology;

@@ -627,8 +627,7 @@ class EnergySystem {
     if (const cholmod_factor* factor = solver_.supernodalFactor()) {
       // A_ir A_rr⁻¹ A_ri = Wᵀ W with W = L⁻¹ P A_ri, sparse because A_ri is (the integer unknowns
       // touch only the vertices around cuts and singularities).
-      const SparseMatrix w = supernodalForwardSolve(*factor, ari_, threads_);
-      schur_ -= Eigen::MatrixXd(SparseMatrix(w.transpose()) * w);
+      schur_ -= supernodalInverseForm(*factor, ari_, threads_);
       return;
     }
     // Without a supernodal factor: S by blocks of integer columns (bounded memory for large k),
