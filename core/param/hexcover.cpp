@@ -916,17 +916,28 @@ std::int64_t integerValue(const Unknowns& u, const std::vector<std::int64_t>& ro
   return value;
 }
 
+// llround(v), rounding half away from zero, for |v| < 2^52 without a library call: v − trunc(v)
+// is exact there.
+std::int64_t roundHalfAway(double v) {
+  const auto t = static_cast<std::int64_t>(v);
+  const double rest = v - static_cast<double>(t);
+  return t + static_cast<std::int64_t>(rest >= 0.5) - static_cast<std::int64_t>(rest <= -0.5);
+}
+
 SnappedCoordinates snapCoordinates(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
                                    const Eigen::VectorXd& x, int n) {
+  using Vector2l = Eigen::Matrix<std::int64_t, 2, 1>;
   const Eigen::Matrix2d toLattice = latticeBasis(n).inverse();
+  // Vertices without columns (isolated, deleted, paired or the gauge) stay at 0.
   std::vector<Eigen::Vector2d> master(mesh.n_vertices(), Eigen::Vector2d::Zero());
-  double largest = 1.0;
-  for (const auto vh : mesh.vertices()) {
-    const int column = u.vertexColumn[vh.idx()];
+  Eigen::Vector2d largestMaster(1.0, 1.0);
+  for (std::size_t v = 0; v < master.size(); ++v) {
+    const int column = u.vertexColumn[v];
     if (column < 0) continue;
-    master[vh.idx()] = toLattice * x.segment<2>(column);
-    largest = std::max(largest, master[vh.idx()].cwiseAbs().maxCoeff());
+    master[v] = toLattice * x.segment<2>(column);
+    largestMaster = largestMaster.cwiseMax(master[v].cwiseAbs());
   }
+  double largest = largestMaster.maxCoeff();
   const std::vector<std::int64_t> rounded = roundedFreeUnknowns(u, x);
   std::vector<std::int64_t> pairValue(2 * cm.pairCount);
   for (int scalar = 0; scalar < 2 * cm.pairCount; ++scalar) {
@@ -937,22 +948,25 @@ SnappedCoordinates snapCoordinates(const TriMesh& mesh, const CutMesh& cm, const
   s.exponent = std::min(30, 48 - static_cast<int>(std::ceil(std::log2(largest))));
   const double scale = std::ldexp(1.0, s.exponent);
   for (auto& value : pairValue) value *= std::int64_t{1} << s.exponent;
+  // The master coordinates in quanta (|value| ≤ 2^48): a vertex's own position, or its lattice
+  // point when it has a pair.
+  std::vector<Vector2l> snappedMaster(mesh.n_vertices(), Vector2l::Zero());
+  for (std::size_t v = 0; v < snappedMaster.size(); ++v) {
+    if (cm.vertexPair[v] >= 0)
+      snappedMaster[v] = {pairValue[2 * cm.vertexPair[v]], pairValue[2 * cm.vertexPair[v] + 1]};
+    else if (u.vertexColumn[v] >= 0)
+      snappedMaster[v] = {roundHalfAway(master[v].x() * scale), roundHalfAway(master[v].y() * scale)};
+  }
   using Rotation = Eigen::Matrix<std::int64_t, 2, 2>;
   std::vector<Rotation> rotation(n);  // R^k, k = 0 … n − 1 (the transforms' range)
   for (int k = 0; k < n; ++k) rotation[k] = latticeRotation(n, k).cast<std::int64_t>();
   s.wedge.resize(cm.wedgeVertex.size());
   for (std::size_t w = 0; w < cm.wedgeVertex.size(); ++w) {
-    const int v = cm.wedgeVertex[w];
     const auto& transform = cm.wedgeTransform[w];
-    Eigen::Matrix<std::int64_t, 2, 1> z(0, 0);
-    if (cm.vertexPair[v] >= 0)
-      z = {pairValue[2 * cm.vertexPair[v]], pairValue[2 * cm.vertexPair[v] + 1]};
-    else if (u.vertexColumn[v] >= 0)
-      z = {std::llround(master[v].x() * scale), std::llround(master[v].y() * scale)};
-    z = rotation[transform.rotation] * z;
+    const Vector2l& m = snappedMaster[cm.wedgeVertex[w]];
+    Vector2l z = transform.rotation == 0 ? m : Vector2l(rotation[transform.rotation] * m);
     for (const auto& term : transform.terms) {
-      const Eigen::Matrix<std::int64_t, 2, 1> y(pairValue[2 * term.pair],
-                                                pairValue[2 * term.pair + 1]);
+      const Vector2l y(pairValue[2 * term.pair], pairValue[2 * term.pair + 1]);
       z += term.sign * (rotation[term.rotation] * y);
     }
     s.wedge[w] = {z.x(), z.y()};
@@ -1480,15 +1494,21 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
     Iterate chosen = plain;  // relax, then repair and relax again
     relax(chosen);
     if (chosen.orientation.flipped > 0) {
+      // Relaxation keeps only steps with fewer flipped triangles: one that kept none left
+      // `plain`, and the order below (repair, then relax) would redo the same steps.
+      const bool relaxedNothing = chosen.orientation.flipped == plain.orientation.flipped;
       repair(chosen);
+      const Iterate repairedPlain = relaxedNothing ? chosen : Iterate{};
       if (chosen.orientation.flipped > 0) relax(chosen);
-    }
-    if (chosen.orientation.flipped > 0) {  // repair, then relax
-      Iterate repaired = plain;
-      repair(repaired);
-      chosen = repaired;
-      if (repaired.orientation.flipped > 0) relax(chosen);
-      if (chosen.orientation.flipped > 0) chosen = std::move(repaired);
+      if (chosen.orientation.flipped > 0 && relaxedNothing) {
+        chosen = repairedPlain;
+      } else if (chosen.orientation.flipped > 0) {  // repair, then relax
+        Iterate repaired = plain;
+        repair(repaired);
+        chosen = repaired;
+        if (repaired.orientation.flipped > 0) relax(chosen);
+        if (chosen.orientation.flipped > 0) chosen = std::move(repaired);
+      }
     }
     x = std::move(chosen.x);
     snapped = std::move(chosen.snapped);
