@@ -72,15 +72,28 @@ struct ClosestPointQuery::Impl {
   TriangleArrays mesh;
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
-  /// Float rounding of the BVH (built on float copies of the points): the search radius is kept
-  /// this much larger than the best exact distance so that no closer triangle is culled.
+  /// The BVH holds float copies of the points relative to this origin (the centre of the
+  /// bounding box): far from the coordinate origin (georeferenced scans, ~10^6 units away) float
+  /// coordinates would otherwise round by more than the mesh's own details.
+  Vec3 origin = Vec3::Zero();
+  /// Float rounding of the BVH: the search radius is kept this much larger than the best exact
+  /// distance so that no closer triangle is culled.
   double slack = 0.0;
 
   explicit Impl(const TriMesh& target) : mesh(target) {
     if (mesh.triangles.empty())
       throw Error(ErrorCode::InvalidMesh, "cannot measure distances to a mesh without faces");
+    Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity()), high = -low;
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v)
+      if (mesh.referenced[v]) {
+        low = low.cwiseMin(mesh.positions[v]);
+        high = high.cwiseMax(mesh.positions[v]);
+      }
+    origin = 0.5 * (low + high);
     double extent = 0.0;
-    for (const auto& p : mesh.positions) extent = std::max(extent, p.cwiseAbs().maxCoeff());
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v)
+      if (mesh.referenced[v])
+        extent = std::max(extent, (mesh.positions[v] - origin).cwiseAbs().maxCoeff());
     slack = 16.0 * std::numeric_limits<float>::epsilon() * std::max(extent, 1e-30);
 
     device = rtcNewDevice("verbose=0");
@@ -99,7 +112,9 @@ struct ClosestPointQuery::Impl {
       throw Error(ErrorCode::LimitExceeded, "Embree: out of memory for the distance BVH");
     }
     for (std::size_t v = 0; v < mesh.positions.size(); ++v)
-      for (int k = 0; k < 3; ++k) vertices[3 * v + k] = static_cast<float>(mesh.positions[v][k]);
+      for (int k = 0; k < 3; ++k)
+        vertices[3 * v + k] =
+            mesh.referenced[v] ? static_cast<float>(mesh.positions[v][k] - origin[k]) : 0.0f;
     for (std::size_t f = 0; f < mesh.triangles.size(); ++f)
       for (int k = 0; k < 3; ++k) indices[3 * f + k] = static_cast<unsigned>(mesh.triangles[f][k]);
     rtcCommitGeometry(geometry);
@@ -131,11 +146,13 @@ struct ClosestPointQuery::Impl {
     Vec3 p;
     double best;
     int bestFace;
+    int visited = 0;
   };
 
   static bool visitTriangle(RTCPointQueryFunctionArguments* args) {
     auto& search = *static_cast<Search*>(args->userPtr);
     const int f = static_cast<int>(args->primID);
+    ++search.visited;
     const double d = search.self->distanceToFace(search.p, f);
     if (d < search.best || (d == search.best && f < search.bestFace)) {
       search.best = d;
@@ -156,9 +173,9 @@ struct ClosestPointQuery::Impl {
       search.bestFace = hintFace;
     }
     RTCPointQuery query;
-    query.x = static_cast<float>(p.x());
-    query.y = static_cast<float>(p.y());
-    query.z = static_cast<float>(p.z());
+    query.x = static_cast<float>(p.x() - origin.x());
+    query.y = static_cast<float>(p.y() - origin.y());
+    query.z = static_cast<float>(p.z() - origin.z());
     query.time = 0.0f;
     // The float query point is off by up to an ulp per coordinate; the slack covers it too.
     query.radius = std::isfinite(search.best) ? static_cast<float>(search.best + slack + slack)
@@ -168,7 +185,8 @@ struct ClosestPointQuery::Impl {
     rtcPointQuery(scene, &query, &context, &Impl::visitTriangle, &search);
     const int f = search.bestFace;
     return {search.best, f,
-            closestPointOnTriangle(p, mesh.corner(f, 0), mesh.corner(f, 1), mesh.corner(f, 2))};
+            closestPointOnTriangle(p, mesh.corner(f, 0), mesh.corner(f, 1), mesh.corner(f, 2)),
+            search.visited};
   }
 };
 

@@ -44,6 +44,7 @@ class ClosestPointQuery {
     /// OpenMesh index when the mesh has no deleted faces).
     int face = -1;
     Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< closest point on the mesh
+    int visited = 0;  ///< triangles the BVH handed to the exact distance (the query's cost)
   };
   /// Closest point of the mesh to `p`. `hintFace` (a face index, or −1) seeds the search radius
   /// with the distance to that face, which makes queries near a known answer fast.

@@ -158,6 +158,26 @@ TEST(MetricsDistance, ClosestPointMatchesBruteForce) {
   }
 }
 
+// A georeferenced scan lies ~10^6 units from the origin, where float coordinates (the BVH's) round
+// by 0.25 units: the BVH works relative to the mesh's centre, so a query stays local there
+// (relative to the origin, every query would visit all 5120 triangles; here as many as at the
+// origin).
+TEST(MetricsDistance, ClosestPointFarFromTheOriginIsExactAndLocal) {
+  const TriMesh sphere = makeIcosphere(4);
+  const Eigen::Vector3d offset(5.0e5, 4.0e6, 120.0);
+  TriMesh far = sphere;
+  for (const auto vh : far.vertices()) far.set_point(vh, far.point(vh) + toOpenMesh(offset));
+  const ClosestPointQuery nearQuery(sphere), farQuery(far);
+  for (int k = 0; k < 50; ++k) {
+    const double t = 0.37 * k;
+    const Eigen::Vector3d p(1.1 * std::sin(1.3 * t), 0.9 * std::cos(0.7 * t), std::sin(2.9 * t));
+    const auto expected = nearQuery.closest(p);
+    const auto result = farQuery.closest(p + offset);
+    EXPECT_NEAR(result.distance, expected.distance, 1e-8);
+    EXPECT_LE(result.visited, 2 * expected.visited + 8) << "query " << k;
+  }
+}
+
 TEST(MetricsDistance, ResultsDoNotDependOnThreadCount) {
   const TriMesh sphere = makeIcosphere(4);
   TriMesh bumpy = sphere;
