@@ -20,6 +20,10 @@ constexpr std::uint32_t kNone = UINT32_MAX;
 /// Polygons with more corners are fan-triangulated: ear clipping costs O(n³) on adversarial
 /// outlines, and at 16 corners a file at the face limit still triangulates in about a second.
 constexpr std::size_t kMaxEarClippingCorners = 16;
+/// Bounding-box diagonals the pipeline supports: areas and squared lengths of meshes much smaller
+/// (or larger) underflow (or overflow) in double precision; remeshes work to beyond 1e±60.
+constexpr double kMinDiagonal = 1e-50;
+constexpr double kMaxDiagonal = 1e50;
 
 std::string formatPoint(const Eigen::Vector3d& p) {
   std::ostringstream out;
@@ -59,6 +63,21 @@ void refuseUnrepairable(const PolygonSoup& soup, const RepairOptions& options) {
       throw Error(ErrorCode::InvalidMesh, "vertex " + std::to_string(v) +
                                               " has a NaN or infinite coordinate " +
                                               formatPoint(soup.positions[v]));
+  Eigen::Vector3d low = soup.positions[soup.cornerVertices.front()], high = low;
+  for (const std::uint32_t v : soup.cornerVertices) {
+    low = low.cwiseMin(soup.positions[v]);
+    high = high.cwiseMax(soup.positions[v]);
+  }
+  // (high − low) / 2^k keeps the norm from overflowing; a zero diagonal is left to the
+  // degenerate-face check.
+  const double diagonal = 2.0 * (0.5 * high - 0.5 * low).norm();
+  if (diagonal > 0.0 && !(diagonal >= kMinDiagonal && diagonal <= kMaxDiagonal)) {
+    std::ostringstream message;
+    message << "the mesh's bounding-box diagonal is " << diagonal << ", outside the supported "
+            << "range " << kMinDiagonal << " to " << kMaxDiagonal
+            << ": scale its coordinates (a remesh does not depend on the unit)";
+    throw Error(ErrorCode::InvalidMesh, message.str());
+  }
 }
 
 // Ear clipping of face f in the plane of its Newell normal; falls back to a fan for large or

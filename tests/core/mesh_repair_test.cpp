@@ -297,6 +297,19 @@ TEST(MeshRepair, RefusesWhatCannotBeRepaired) {
   EXPECT_TRUE(contains(errorMessage([&] { repairMesh(allDegenerate); }, ErrorCode::InvalidMesh),
                        "degenerate"));
 
+  // Sizes whose areas underflow or overflow in double precision: refused with the size.
+  for (const double scale : {1e-100, 1e100}) {
+    PolygonSoup extreme = toPolygonSoup(makeIcosphere(1));
+    for (auto& p : extreme.positions) p *= scale;
+    EXPECT_TRUE(contains(errorMessage([&] { repairMesh(extreme); }, ErrorCode::InvalidMesh),
+                         "bounding-box diagonal"));
+  }
+  for (const double scale : {1e-40, 1e40}) {  // inside the range
+    PolygonSoup large = toPolygonSoup(makeIcosphere(1));
+    for (auto& p : large.positions) p *= scale;
+    EXPECT_EQ(repairMesh(large).mesh.n_faces(), 80u);
+  }
+
   PolygonSoup inconsistent = toPolygonSoup(makeIcosphere(0));
   inconsistent.faceStarts.back() += 2;
   EXPECT_TRUE(contains(errorMessage([&] { validateMesh(inconsistent); }, ErrorCode::InvalidMesh),
