@@ -315,6 +315,55 @@ Unknowns buildUnknowns(const TriMesh& mesh, const CutMesh& cm, int n) {
   return u;
 }
 
+// Groups of integer unknowns (counted from 0) that no face couples: those of each mesh component
+// (a pair's cut edge or singular vertex lies in one), ascending within a group. With several
+// components the Schur complement is block diagonal and each block is solved on its own: 400
+// small spheres have 6400 integer unknowns, whose dense S would take O(k³) per solve.
+std::vector<std::vector<int>> integerGroups(const TriMesh& mesh, const CutMesh& cm,
+                                            const Unknowns& u) {
+  std::vector<int> component(mesh.n_vertices(), -1);
+  int components = 0;
+  std::vector<int> stack;
+  for (const auto seed : mesh.vertices()) {
+    if (component[seed.idx()] >= 0) continue;
+    component[seed.idx()] = components;
+    stack.push_back(seed.idx());
+    while (!stack.empty()) {
+      const int v = stack.back();
+      stack.pop_back();
+      for (const auto w : mesh.vv_range(mesh.vertex_handle(v)))
+        if (component[w.idx()] < 0) {
+          component[w.idx()] = components;
+          stack.push_back(w.idx());
+        }
+    }
+    ++components;
+  }
+  std::vector<int> pairComponent(cm.pairCount, -1);
+  for (const auto eh : mesh.edges())
+    if (const int pair = cm.edgePair[eh.idx()]; pair >= 0)
+      pairComponent[pair] = component[eh.v0().idx()];
+  for (const auto vh : mesh.vertices())
+    if (const int pair = cm.vertexPair[vh.idx()]; pair >= 0)
+      pairComponent[pair] = component[vh.idx()];
+  // The component of each integer unknown; one group for all when any spans two components.
+  std::vector<int> integerComponent(u.integerCount, -1);
+  const int scalars = std::min<int>(2 * cm.pairCount, u.elimination.expression.size());
+  for (int scalar = 0; scalar < scalars; ++scalar)
+    for (const auto& term : u.elimination.expression[scalar]) {
+      const int column = u.freeColumn[term.first];
+      if (column < 0) continue;
+      int& label = integerComponent[column - u.realCount];
+      if (label >= 0 && label != pairComponent[scalar / 2]) components = 1;
+      label = pairComponent[scalar / 2];
+    }
+  std::vector<std::vector<int>> groups(std::max(1, components));
+  for (int j = 0; j < u.integerCount; ++j)
+    groups[components > 1 && integerComponent[j] >= 0 ? integerComponent[j] : 0].push_back(j);
+  std::erase_if(groups, [](const std::vector<int>& group) { return group.empty(); });
+  return groups;
+}
+
 // Energy (4) as least squares: rows (∂u/∂x, ∂u/∂y, ∂v/∂x, ∂v/∂y) per face in the combed frame
 // over the columns of Unknowns, with targets (σ_f, 0, 0, σ_f), σ_f = s_f / h; then two rows
 // √λ·(∂v/∂x + ∂u/∂y, ∂v/∂y − ∂u/∂x) = √λ·(∇v − J∇u) with target 0: the anti-conformal part of
@@ -581,14 +630,26 @@ class SpdSolver {
 // A_rr is factorized once per set of weights; the integer unknowns are solved on the dense Schur
 // complement S = A_ii − A_ir A_rr⁻¹ A_ri, c = b_i − A_ir A_rr⁻¹ b_r, so the local solve, every
 // greedy rounding step and the final solve cost back-substitutions instead of factorizations.
+// S is kept as its diagonal blocks over independent groups of integer unknowns (integerGroups:
+// one per mesh component), the only nonzero ones.
 class EnergySystem {
  public:
-  EnergySystem(const LeastSquares& ls, int realCount, LinearSolver kind, int threads)
+  EnergySystem(const LeastSquares& ls, int realCount, std::vector<std::vector<int>> integerGroups,
+               LinearSolver kind, int threads)
       : ls_(ls),
         normal_(ls.gradient, rowGroups(ls)),
         realCount_(realCount),
+        groups_(std::move(integerGroups)),
         threads_(threads),
-        solver_(kind) {}
+        solver_(kind) {
+    for (std::size_t g = 0; g < groups_.size(); ++g)
+      for (std::size_t k = 0; k < groups_[g].size(); ++k) {
+        const int j = groups_[g][k];
+        if (j >= static_cast<int>(groupOf_.size())) groupOf_.resize(j + 1), localIndex_.resize(j + 1);
+        groupOf_[j] = static_cast<int>(g);
+        localIndex_[j] = static_cast<int>(k);
+      }
+  }
 
   /// The symbolic analysis of A_rr, which depends on the pattern only: it can run before the
   /// targets and weights are known (setFaceWeights does it otherwise).
@@ -621,49 +682,61 @@ class EnergySystem {
       z_ = solver_.solve(z_);
     }
     if (!integersFree) return;
-    schur_ = Eigen::MatrixXd(a.bottomRightCorner(k, k));
     c_ = b.tail(k) - ari_.transpose() * z_;
+    schur_.clear();
+    const SparseMatrix aii = a.bottomRightCorner(k, k);
+    for (const auto& group : groups_) schur_.push_back(denseBlock(aii, group));
     if (r == 0 || k == 0) return;
-    if (const cholmod_factor* factor = solver_.supernodalFactor()) {
-      // A_ir A_rr⁻¹ A_ri = Wᵀ W with W = L⁻¹ P A_ri, sparse because A_ri is (the integer unknowns
-      // touch only the vertices around cuts and singularities).
-      schur_ -= supernodalInverseForm(*factor, ari_, threads_);
-      return;
-    }
+    const cholmod_factor* factor = solver_.supernodalFactor();
     // Without a supernodal factor: S by blocks of integer columns (bounded memory for large k),
     // keeping the solved columns A_rr⁻¹ A_ri when they fit in kResponseBudget doubles (the
     // rounding repair then reads its responses instead of solving for them).
     constexpr int kBlock = 64;
     constexpr double kResponseBudget = 32e6;  // 256 MB
-    const bool keep = static_cast<double>(r) * k <= kResponseBudget;
+    const bool keep = !factor && static_cast<double>(r) * k <= kResponseBudget;
     if (keep) responses_.resize(r, k);
-    for (int first = 0; first < k; first += kBlock) {
-      const int width = std::min(kBlock, k - first);
-      const Eigen::MatrixXd y = solver_.solve(Eigen::MatrixXd(ari_.middleCols(first, width)));
-      schur_.middleCols(first, width) -= ari_.transpose() * y;
-      if (keep) responses_.middleCols(first, width) = y;
+    for (std::size_t g = 0; g < groups_.size(); ++g) {
+      const SparseMatrix arig = columnsOf(ari_, groups_[g]);
+      if (factor) {
+        // A_ir A_rr⁻¹ A_ri = Wᵀ W with W = L⁻¹ P A_ri, sparse because A_ri is (the integer
+        // unknowns touch only the vertices around cuts and singularities).
+        schur_[g] -= supernodalInverseForm(*factor, arig, threads_);
+        continue;
+      }
+      const int width = static_cast<int>(groups_[g].size());
+      for (int first = 0; first < width; first += kBlock) {
+        const int count = std::min(kBlock, width - first);
+        const Eigen::MatrixXd y = solver_.solve(Eigen::MatrixXd(arig.middleCols(first, count)));
+        schur_[g].middleCols(first, count) -= arig.transpose() * y;
+        if (keep)
+          for (int q = 0; q < count; ++q) responses_.col(groups_[g][first + q]) = y.col(q);
+      }
     }
   }
 
   /// Integer unknowns (#i) of the minimizer with x_i[j] = values[j] where fixed[j] (integer
   /// columns counted from 0).
   Eigen::VectorXd solveIntegers(const std::vector<bool>& fixed, const Eigen::VectorXd& values) const {
-    const int k = static_cast<int>(c_.size());
-    std::vector<int> free, held;
-    for (int j = 0; j < k; ++j) (fixed[j] ? held : free).push_back(j);
     Eigen::VectorXd x = values;
-    if (free.empty()) return x;
-    Eigen::MatrixXd sff(free.size(), free.size());
-    Eigen::VectorXd rhs(free.size());
-    for (std::size_t p = 0; p < free.size(); ++p) {
-      rhs[p] = c_[free[p]];
-      for (const int g : held) rhs[p] -= schur_(free[p], g) * values[g];
-      for (std::size_t q = 0; q < free.size(); ++q) sff(p, q) = schur_(free[p], free[q]);
+    for (std::size_t g = 0; g < groups_.size(); ++g) {
+      const auto& group = groups_[g];
+      const Eigen::MatrixXd& s = schur_[g];
+      std::vector<int> free, held;  // indices into the group
+      for (std::size_t j = 0; j < group.size(); ++j)
+        (fixed[group[j]] ? held : free).push_back(static_cast<int>(j));
+      if (free.empty()) continue;
+      Eigen::MatrixXd sff(free.size(), free.size());
+      Eigen::VectorXd rhs(free.size());
+      for (std::size_t p = 0; p < free.size(); ++p) {
+        rhs[p] = c_[group[free[p]]];
+        for (const int h : held) rhs[p] -= s(free[p], h) * values[group[h]];
+        for (std::size_t q = 0; q < free.size(); ++q) sff(p, q) = s(free[p], free[q]);
+      }
+      const Eigen::VectorXd xf = sff.ldlt().solve(rhs);
+      if (!xf.allFinite())
+        throw Error(ErrorCode::NumericalFailure, "the parameterization's integer system is singular");
+      for (std::size_t p = 0; p < free.size(); ++p) x[group[free[p]]] = xf[p];
     }
-    const Eigen::VectorXd xf = sff.ldlt().solve(rhs);
-    if (!xf.allFinite())
-      throw Error(ErrorCode::NumericalFailure, "the parameterization's integer system is singular");
-    for (std::size_t p = 0; p < free.size(); ++p) x[free[p]] = xf[p];
     return x;
   }
 
@@ -677,8 +750,16 @@ class EnergySystem {
         n == 6 ? std::vector<Eigen::Vector2d>{{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, -1}, {-1, 1}}
                : std::vector<Eigen::Vector2d>{{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
     const std::vector<Eigen::Vector2d> scalarMoves = {{1, 0}, {-1, 0}};
-    Eigen::VectorXd gradient = schur_ * xi - c_;
-    const double tolerance = 1e-12 * (1.0 + std::abs(xi.dot(schur_ * xi)));  // round-off guard
+    // gradient = S x_i − c, block by block.
+    Eigen::VectorXd gradient(xi.size());
+    double energy = 0.0;  // x_iᵀ S x_i
+    for (std::size_t g = 0; g < groups_.size(); ++g) {
+      const Eigen::VectorXd xg = xi(groups_[g]);
+      const Eigen::VectorXd sx = schur_[g] * xg;
+      gradient(groups_[g]) = sx - c_(groups_[g]);
+      energy += xg.dot(sx);
+    }
+    const double tolerance = 1e-12 * (1.0 + std::abs(energy));  // round-off guard
     int moves = 0;
     constexpr int kMaxPasses = 50;
     for (int pass = 0; pass < kMaxPasses; ++pass) {
@@ -691,7 +772,7 @@ class EnergySystem {
           for (std::size_t a = 0; a < unit.size(); ++a) {
             change += 2.0 * move[a] * gradient[unit[a]];
             for (std::size_t b = 0; b < unit.size(); ++b)
-              change += move[a] * move[b] * schur_(unit[a], unit[b]);
+              change += move[a] * move[b] * schurEntry(unit[a], unit[b]);
           }
           if (change < bestChange) {
             bestChange = change;
@@ -701,7 +782,8 @@ class EnergySystem {
         if (!best) continue;
         for (std::size_t a = 0; a < unit.size(); ++a) {
           xi[unit[a]] += (*best)[a];
-          gradient += (*best)[a] * schur_.col(unit[a]);
+          const int g = groupOf_[unit[a]];
+          gradient(groups_[g]) += (*best)[a] * schur_[g].col(localIndex_[unit[a]]);
         }
         ++moves;
         moved = true;
@@ -817,6 +899,37 @@ class EnergySystem {
     return w;
   }
 
+  /// S_ab (integer unknowns a and b): 0 across groups.
+  double schurEntry(int a, int b) const {
+    const int g = groupOf_[a];
+    return groupOf_[b] == g ? schur_[g](localIndex_[a], localIndex_[b]) : 0.0;
+  }
+
+  /// m restricted to the rows and columns `indices`, dense.
+  static Eigen::MatrixXd denseBlock(const SparseMatrix& m, const std::vector<int>& indices) {
+    std::vector<int> position(m.rows(), -1);
+    for (std::size_t k = 0; k < indices.size(); ++k) position[indices[k]] = static_cast<int>(k);
+    Eigen::MatrixXd block = Eigen::MatrixXd::Zero(indices.size(), indices.size());
+    for (std::size_t k = 0; k < indices.size(); ++k)
+      for (SparseMatrix::InnerIterator it(m, indices[k]); it; ++it)
+        if (position[it.row()] >= 0) block(position[it.row()], k) = it.value();
+    return block;
+  }
+
+  /// The columns `indices` of m, in that order.
+  static SparseMatrix columnsOf(const SparseMatrix& m, const std::vector<int>& indices) {
+    if (static_cast<Eigen::Index>(indices.size()) == m.cols() &&
+        std::is_sorted(indices.begin(), indices.end()))
+      return m;  // all of them
+    SparseMatrix out(m.rows(), static_cast<Eigen::Index>(indices.size()));
+    std::vector<Triplet> triplets;
+    for (std::size_t k = 0; k < indices.size(); ++k)
+      for (SparseMatrix::InnerIterator it(m, indices[k]); it; ++it)
+        triplets.emplace_back(static_cast<int>(it.row()), static_cast<int>(k), it.value());
+    out.setFromTriplets(triplets.begin(), triplets.end());
+    return out;
+  }
+
   /// The least squares' row groups for the normal equations: each face's rows, then each
   /// crease edge's.
   static std::vector<int> rowGroups(const LeastSquares& ls) {
@@ -831,13 +944,15 @@ class EnergySystem {
   const LeastSquares& ls_;
   NormalEquations normal_;  // AᵀWA for the face weights of each solve
   int realCount_;
+  std::vector<std::vector<int>> groups_;  // independent groups of integer unknowns
+  std::vector<int> groupOf_, localIndex_;  // per integer unknown: its group, its index there
   int threads_;  ///< of the assembly, the forward solve and the responses
   SpdSolver solver_;
   SparseMatrix ari_;       // A_ri
   Eigen::VectorXd factorRowWeight_;  // the row weights of the last factorization
   SparseMatrix factorAri_;           // and its A_ri
   Eigen::VectorXd z_;      // A_rr⁻¹ b_r
-  Eigen::MatrixXd schur_;  // S
+  std::vector<Eigen::MatrixXd> schur_;  // S's diagonal blocks, one per group
   Eigen::MatrixXd responses_;  // A_rr⁻¹ A_ri for the current weights (empty: not kept)
   std::map<int, Eigen::VectorXd> solvedResponses_;  // columns of realResponses for these weights
   Eigen::VectorXd c_;      // c
@@ -1363,7 +1478,8 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
         geometry = computeFaceGeometry(mesh, field, cut);
         creases = findCreases(mesh, cm, geometry, field, options.creaseWeight);
         ls = buildLeastSquares(mesh, cm, unknowns, geometry, options.conformalWeight, creases);
-        energySystem.emplace(ls, unknowns.realCount, options.solver, options.threads);
+        energySystem.emplace(ls, unknowns.realCount, integerGroups(mesh, cm, unknowns),
+                             options.solver, options.threads);
         energySystem->analyze();
       },
       [&] {

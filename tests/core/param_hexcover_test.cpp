@@ -410,31 +410,70 @@ TEST(HexCover, ConcurrentRunsAreIdenticalToASequentialOne) {
   }
 }
 
-TEST(HexCover, EveryComponentGetsItsOwnDiskAndGauge) {
-  TriMesh mesh = makeTorus(3.0, 1.0, 48, 16);
-  const TriMesh sphere = makeIcosphere(3, 1.0);
-  std::vector<TriMesh::VertexHandle> added;
-  for (const auto vh : sphere.vertices())
-    added.push_back(mesh.add_vertex(sphere.point(vh) + TriMesh::Point(10.0, 0.0, 0.0)));
-  for (const auto fh : sphere.faces()) {
-    std::vector<TriMesh::VertexHandle> corners;
-    for (const auto vh : sphere.fv_range(fh)) corners.push_back(added[vh.idx()]);
-    mesh.add_face(corners);
+/// A torus (major radius 3) and an icosphere 10 units away as one mesh, with their fields.
+struct TorusAndSphere {
+  TriMesh torus = makeTorus(3.0, 1.0, 48, 16);
+  TriMesh sphere = makeIcosphere(3, 1.0);
+  RosyField torusField = hexcover::torusField(torus, 6);
+  RosyField sphereField = icosahedralField(sphere);
+  TriMesh mesh;
+  RosyField field;
+
+  TorusAndSphere() : mesh(torus) {
+    std::vector<TriMesh::VertexHandle> added;
+    for (const auto vh : sphere.vertices())
+      added.push_back(mesh.add_vertex(sphere.point(vh) + TriMesh::Point(10.0, 0.0, 0.0)));
+    for (const auto fh : sphere.faces()) {
+      std::vector<TriMesh::VertexHandle> corners;
+      for (const auto vh : sphere.fv_range(fh)) corners.push_back(added[vh.idx()]);
+      mesh.add_face(corners);
+    }
+    std::vector<Eigen::Vector3d> directions = torusField.faceDirection;
+    directions.insert(directions.end(), sphereField.faceDirection.begin(),
+                      sphereField.faceDirection.end());
+    field = rosyFieldFromDirections(mesh, directions, 6);
   }
-  std::vector<Eigen::Vector3d> directions;
-  const RosyField torus = torusField(makeTorus(3.0, 1.0, 48, 16), 6);
-  const RosyField ico = icosahedralField(sphere);
-  directions.insert(directions.end(), torus.faceDirection.begin(), torus.faceDirection.end());
-  directions.insert(directions.end(), ico.faceDirection.begin(), ico.faceDirection.end());
-  const RosyField field = rosyFieldFromDirections(mesh, directions, 6);
-  const CutGraph cut = computeCutGraph(mesh, field);
+};
+
+TEST(HexCover, EveryComponentGetsItsOwnDiskAndGauge) {
+  const TorusAndSphere both;
+  const CutGraph cut = computeCutGraph(both.mesh, both.field);
   EXPECT_EQ(cut.componentCount, 2);
-  expectCutOpensToDisks(mesh, field);
+  expectCutOpensToDisks(both.mesh, both.field);
   ParamOptions options;
   options.edgeLength = 0.2;
-  const Parameterization p = computeParameterization(mesh, field, options);
-  expectSeamless(mesh, p);
-  expectSingularitiesOnLattice(mesh, field, p);
+  const Parameterization p = computeParameterization(both.mesh, both.field, options);
+  expectSeamless(both.mesh, p);
+  expectSingularitiesOnLattice(both.mesh, both.field, p);
+}
+
+// Separate components share no integer unknown: the Schur complement is solved block by block
+// (one block per component), and each component's map is the one it gets on its own.
+TEST(HexCover, ComponentsAreParameterizedAsIfAlone) {
+  const TorusAndSphere both;
+  ParamOptions options;
+  options.edgeLength = 0.2;
+  options.rounding = RoundingMethod::Direct;  // unit by unit, as alone
+  const Parameterization together = computeParameterization(both.mesh, both.field, options);
+  ASSERT_GT(together.integerVariables, 0);
+  // Per face, the parameter-space edge vectors (free of each component's translation gauge).
+  const auto edgeVectors = [](const TriMesh& m, const Parameterization& p, int face) {
+    std::vector<Eigen::Vector2d> corners;
+    for (const auto h : m.fh_range(m.face_handle(face))) corners.push_back(p.cornerCoords[h.idx()]);
+    return std::array<Eigen::Vector2d, 2>{corners[1] - corners[0], corners[2] - corners[0]};
+  };
+  int faceOffset = 0;
+  for (const auto& [part, partField] : {std::pair{&both.torus, &both.torusField},
+                                        std::pair{&both.sphere, &both.sphereField}}) {
+    const Parameterization alone = computeParameterization(*part, *partField, options);
+    for (const auto fh : part->faces()) {
+      const auto expected = edgeVectors(*part, alone, fh.idx());
+      const auto actual = edgeVectors(both.mesh, together, faceOffset + fh.idx());
+      for (int k = 0; k < 2; ++k)
+        ASSERT_LT((actual[k] - expected[k]).norm(), 1e-6) << "face " << faceOffset + fh.idx();
+    }
+    faceOffset += static_cast<int>(part->n_faces());
+  }
 }
 
 TEST(HexCover, VertexCountTargetSetsTheEdgeLength) {
