@@ -642,12 +642,14 @@ class EnergySystem {
         groups_(std::move(integerGroups)),
         threads_(threads),
         solver_(kind) {
+    std::size_t integers = 0;  // the groups partition the integer unknowns
+    for (const auto& group : groups_) integers += group.size();
+    groupOf_.resize(integers);
+    localIndex_.resize(integers);
     for (std::size_t g = 0; g < groups_.size(); ++g)
       for (std::size_t k = 0; k < groups_[g].size(); ++k) {
-        const int j = groups_[g][k];
-        if (j >= static_cast<int>(groupOf_.size())) groupOf_.resize(j + 1), localIndex_.resize(j + 1);
-        groupOf_[j] = static_cast<int>(g);
-        localIndex_[j] = static_cast<int>(k);
+        groupOf_[groups_[g][k]] = static_cast<int>(g);
+        localIndex_[groups_[g][k]] = static_cast<int>(k);
       }
   }
 
@@ -688,9 +690,9 @@ class EnergySystem {
     for (const auto& group : groups_) schur_.push_back(denseBlock(aii, group));
     if (r == 0 || k == 0) return;
     const cholmod_factor* factor = solver_.supernodalFactor();
-    // Without a supernodal factor: S by blocks of integer columns (bounded memory for large k),
-    // keeping the solved columns A_rr⁻¹ A_ri when they fit in kResponseBudget doubles (the
-    // rounding repair then reads its responses instead of solving for them).
+    // Without a supernodal factor the solved columns A_rr⁻¹ A_ri are kept when they fit in
+    // kResponseBudget doubles (the rounding repair then reads its responses instead of solving
+    // for them).
     constexpr int kBlock = 64;
     constexpr double kResponseBudget = 32e6;  // 256 MB
     const bool keep = !factor && static_cast<double>(r) * k <= kResponseBudget;
@@ -703,6 +705,7 @@ class EnergySystem {
         schur_[g] -= supernodalInverseForm(*factor, arig, threads_);
         continue;
       }
+      // Else by blocks of kBlock integer columns (bounded memory for large groups).
       const int width = static_cast<int>(groups_[g].size());
       for (int first = 0; first < width; first += kBlock) {
         const int count = std::min(kBlock, width - first);
