@@ -1,7 +1,9 @@
 // Mesh file readers for the viewer: OBJ, OFF, PLY (ascii and binary) and STL (ascii and binary).
 //
 // Every reader returns a PolygonMesh:
-//   positions      Float32Array, 3·V   vertex coordinates
+//   positions      Float64Array, 3·V   vertex coordinates (doubles: a georeferenced scan, ~10^6
+//                                      units from the origin, keeps its detail; the viewer
+//                                      draws floats relative to the model's centre)
 //   faceOffsets    Uint32Array,  F+1   face f has corners faceOffsets[f] .. faceOffsets[f+1]-1
 //   faceVertices   Uint32Array,  C     vertex index of each corner (C = total number of corners)
 //   texcoords      Float32Array, 2·T   texture coordinates (OBJ `vt`), or null
@@ -40,7 +42,7 @@ class PolygonBuilder {
     const hasTexcoords =
       this.texcoords.length > 0 && this.faceTexcoords.length === this.faceVertices.length;
     return {
-      positions: Float32Array.from(this.positions),
+      positions: Float64Array.from(this.positions),
       faceOffsets: Uint32Array.from(this.faceOffsets),
       faceVertices: Uint32Array.from(this.faceVertices),
       texcoords: hasTexcoords ? Float32Array.from(this.texcoords) : null,

@@ -97,6 +97,14 @@ test('OBJ texture coordinates per corner, negative indices, polygons', () => {
   assert.throws(() => parseObj('v 0 0 0\nf 1 2 3\n'), MeshFormatError);
 });
 
+test('coordinates far from the origin keep their detail (a georeferenced scan)', () => {
+  // As floats, 4123456.789 would round to 4123456.75 and the 1 mm triangle would collapse.
+  const mesh = parseObj('v 512345.001 4123456.789 87.5\nv 512345.002 4123456.789 87.5\n' +
+    'v 512345.001 4123456.790 87.5\nf 1 2 3\n');
+  assert.deepEqual(Array.from(mesh.positions.subarray(0, 3)), [512345.001, 4123456.789, 87.5]);
+  assert.notEqual(mesh.positions[1], mesh.positions[7]);
+});
+
 test('icosahedron: 30 edges, every vertex of valence 5, all 12 irregular (index +1/6 each)', () => {
   const mesh = parseObj(objText());
   const { edges, faceCounts } = uniqueEdges(mesh);
