@@ -315,51 +315,35 @@ Unknowns buildUnknowns(const TriMesh& mesh, const CutMesh& cm, int n) {
   return u;
 }
 
-// Groups of integer unknowns (counted from 0) that no face couples: those of each mesh component
-// (a pair's cut edge or singular vertex lies in one), ascending within a group. With several
-// components the Schur complement is block diagonal and each block is solved on its own: 400
-// small spheres have 6400 integer unknowns, whose dense S would take O(k³) per solve.
-std::vector<std::vector<int>> integerGroups(const TriMesh& mesh, const CutMesh& cm,
-                                            const Unknowns& u) {
-  std::vector<int> component(mesh.n_vertices(), -1);
-  int components = 0;
-  std::vector<int> stack;
-  for (const auto seed : mesh.vertices()) {
-    if (component[seed.idx()] >= 0) continue;
-    component[seed.idx()] = components;
-    stack.push_back(seed.idx());
-    while (!stack.empty()) {
-      const int v = stack.back();
-      stack.pop_back();
-      for (const auto w : mesh.vv_range(mesh.vertex_handle(v)))
-        if (component[w.idx()] < 0) {
-          component[w.idx()] = components;
-          stack.push_back(w.idx());
-        }
-    }
-    ++components;
-  }
+// Groups of integer unknowns (counted from 0) that no face couples: those of each connected
+// component of the cut graph (a pair's cut edge or singular vertex lies in one), ascending within
+// a group; one group of all when an unknown spans two components. With several components the
+// Schur complement is block diagonal and each block is solved on its own: 400 small spheres have
+// 6400 integer unknowns, whose dense S would take O(k³) per solve.
+std::vector<std::vector<int>> integerGroups(const TriMesh& mesh, const CutGraph& cut,
+                                            const CutMesh& cm, const Unknowns& u) {
   std::vector<int> pairComponent(cm.pairCount, -1);
   for (const auto eh : mesh.edges())
     if (const int pair = cm.edgePair[eh.idx()]; pair >= 0)
-      pairComponent[pair] = component[eh.v0().idx()];
+      pairComponent[pair] =
+          cut.faceComponent[(eh.h0().is_boundary() ? eh.h1() : eh.h0()).face().idx()];
   for (const auto vh : mesh.vertices())
-    if (const int pair = cm.vertexPair[vh.idx()]; pair >= 0)
-      pairComponent[pair] = component[vh.idx()];
-  // The component of each integer unknown; one group for all when any spans two components.
+    if (const int pair = cm.vertexPair[vh.idx()]; pair >= 0 && !mesh.is_isolated(vh))
+      pairComponent[pair] = cut.faceComponent[vh.faces().begin()->idx()];
   std::vector<int> integerComponent(u.integerCount, -1);
+  bool separable = cut.componentCount > 1;
   const int scalars = std::min<int>(2 * cm.pairCount, u.elimination.expression.size());
   for (int scalar = 0; scalar < scalars; ++scalar)
     for (const auto& term : u.elimination.expression[scalar]) {
       const int column = u.freeColumn[term.first];
       if (column < 0) continue;
-      int& label = integerComponent[column - u.realCount];
-      if (label >= 0 && label != pairComponent[scalar / 2]) components = 1;
-      label = pairComponent[scalar / 2];
+      int& component = integerComponent[column - u.realCount];
+      separable = separable && (component < 0 || component == pairComponent[scalar / 2]);
+      component = pairComponent[scalar / 2];
     }
-  std::vector<std::vector<int>> groups(std::max(1, components));
+  std::vector<std::vector<int>> groups(separable ? cut.componentCount : 1);
   for (int j = 0; j < u.integerCount; ++j)
-    groups[components > 1 && integerComponent[j] >= 0 ? integerComponent[j] : 0].push_back(j);
+    groups[separable ? std::max(0, integerComponent[j]) : 0].push_back(j);
   std::erase_if(groups, [](const std::vector<int>& group) { return group.empty(); });
   return groups;
 }
@@ -1481,7 +1465,7 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
         geometry = computeFaceGeometry(mesh, field, cut);
         creases = findCreases(mesh, cm, geometry, field, options.creaseWeight);
         ls = buildLeastSquares(mesh, cm, unknowns, geometry, options.conformalWeight, creases);
-        energySystem.emplace(ls, unknowns.realCount, integerGroups(mesh, cm, unknowns),
+        energySystem.emplace(ls, unknowns.realCount, integerGroups(mesh, cut, cm, unknowns),
                              options.solver, options.threads);
         energySystem->analyze();
       },
