@@ -63,14 +63,12 @@ void refuseUnrepairable(const PolygonSoup& soup, const RepairOptions& options) {
       throw Error(ErrorCode::InvalidMesh, "vertex " + std::to_string(v) +
                                               " has a NaN or infinite coordinate " +
                                               formatPoint(soup.positions[v]));
-  Eigen::Vector3d low = soup.positions[soup.cornerVertices.front()], high = low;
-  for (const std::uint32_t v : soup.cornerVertices) {
-    low = low.cwiseMin(soup.positions[v]);
-    high = high.cwiseMax(soup.positions[v]);
-  }
-  // (high − low) / 2^k keeps the norm from overflowing; a zero diagonal is left to the
-  // degenerate-face check.
-  const double diagonal = 2.0 * (0.5 * high - 0.5 * low).norm();
+}
+
+// Refuses a mesh whose bounding box (corners low, high) is outside the supported sizes. A zero
+// diagonal is left to the degenerate-face check.
+void refuseExtremeSize(const Eigen::Vector3d& low, const Eigen::Vector3d& high) {
+  const double diagonal = 2.0 * (0.5 * high - 0.5 * low).norm();  // halves: no overflow
   if (diagonal > 0.0 && !(diagonal >= kMinDiagonal && diagonal <= kMaxDiagonal)) {
     std::ostringstream message;
     message << "the mesh's bounding-box diagonal is " << diagonal << ", outside the supported "
@@ -377,6 +375,7 @@ void buildRepairedTriangles(const PolygonSoup& soup, const RepairOptions& option
       lo = lo.cwiseMin(soup.positions[v]);
       hi = hi.cwiseMax(soup.positions[v]);
     }
+  if (!tris.empty()) refuseExtremeSize(lo, hi);
   const double diagonal = tris.empty() ? 0.0 : (hi - lo).norm();
   const std::vector<std::uint32_t> representative =
       weldVertices(soup.positions, referenced, lo, diagonal, options.weldTolerance * diagonal);
