@@ -12,14 +12,7 @@ import { irregularVertices, meanEdgeLength, triangulate, uniqueEdges } from './m
 export const kValenceColours = { below: 0x1f6fd1, above: 0xd1361f };
 const kBackground = 0xf4f5f7;
 
-/** Float positions for WebGL, relative to `origin` (double positions may be far from 0). */
-function relativePositions(positions, origin) {
-  const out = new Float32Array(positions.length);
-  for (let i = 0; i < positions.length; ++i) out[i] = positions[i] - origin[i % 3];
-  return out;
-}
-
-/** The centre of the mesh's bounding box, in its own (double) coordinates. */
+/** The centre of the bounding box of `positions` (model coordinates, doubles). */
 function boxCentre(positions) {
   const low = [Infinity, Infinity, Infinity];
   const high = [-Infinity, -Infinity, -Infinity];
@@ -30,16 +23,24 @@ function boxCentre(positions) {
   return low.map((l, a) => 0.5 * (l + high[a]));
 }
 
-function surfaceGeometry(mesh, origin) {
+/** `mesh` with float positions relative to `origin`, as WebGL draws them: model coordinates may
+ * be far from 0 (a georeferenced scan, ~10^6 units), where floats would round off its detail. */
+function relativeTo(mesh, origin) {
+  const positions = new Float32Array(mesh.positions.length);
+  for (let i = 0; i < positions.length; ++i) positions[i] = mesh.positions[i] - origin[i % 3];
+  return { ...mesh, positions };
+}
+
+function surfaceGeometry(mesh) {
   const geometry = new THREE.BufferGeometry();
-  geometry.setAttribute('position', new THREE.BufferAttribute(relativePositions(mesh.positions, origin), 3));
+  geometry.setAttribute('position', new THREE.BufferAttribute(mesh.positions, 3));
   geometry.setIndex(new THREE.BufferAttribute(triangulate(mesh), 1));
   geometry.computeVertexNormals();
   return geometry;
 }
 
 /** One vertex per (position, texcoord) corner pair, so that seams keep both texcoords. */
-function texturedGeometry(mesh, origin) {
+function texturedGeometry(mesh) {
   const { positions, texcoords, faceVertices, faceTexcoords } = mesh;
   const cornerIds = new Map();
   const outPositions = [];
@@ -58,18 +59,18 @@ function texturedGeometry(mesh, origin) {
     corner[c] = id;
   }
   const split = {
-    positions: outPositions,
+    positions: Float32Array.from(outPositions),
     faceOffsets: mesh.faceOffsets,
     faceVertices: corner,
   };
-  const geometry = surfaceGeometry(split, origin);
+  const geometry = surfaceGeometry(split);
   geometry.setAttribute('uv', new THREE.BufferAttribute(Float32Array.from(outUvs), 2));
   return geometry;
 }
 
-function edgeLines(mesh, origin, colour, opacity = 1) {
+function edgeLines(mesh, colour, opacity = 1) {
   const geometry = new THREE.BufferGeometry();
-  geometry.setAttribute('position', new THREE.BufferAttribute(relativePositions(mesh.positions, origin), 3));
+  geometry.setAttribute('position', new THREE.BufferAttribute(mesh.positions, 3));
   geometry.setIndex(new THREE.BufferAttribute(uniqueEdges(mesh).edges, 1));
   const material = new THREE.LineBasicMaterial({ color: colour, transparent: opacity < 1, opacity });
   return new THREE.LineSegments(geometry, material);
@@ -83,13 +84,12 @@ function surfaceMaterial(colour) {
   });
 }
 
-function markerSpheres(mesh, origin, vertices, radius, colour) {
+function markerSpheres(mesh, vertices, radius, colour) {
   const sphere = new THREE.SphereGeometry(radius, 12, 8);
   const markers = new THREE.InstancedMesh(sphere, new THREE.MeshStandardMaterial({ color: colour }), vertices.length);
   const matrix = new THREE.Matrix4();
   vertices.forEach((v, i) => {
-    const p = mesh.positions;
-    matrix.makeTranslation(p[3 * v] - origin[0], p[3 * v + 1] - origin[1], p[3 * v + 2] - origin[2]);
+    matrix.makeTranslation(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]);
     markers.setMatrixAt(i, matrix);
   });
   return markers;
@@ -157,10 +157,11 @@ export class MeshViewer {
   }
 
   /** Shows the uploaded mesh and frames the camera on it. */
-  setInput(mesh) {
-    this.origin = boxCentre(mesh.positions);
-    this.setLayer('inputSurface', 'input', new THREE.Mesh(surfaceGeometry(mesh, this.origin), surfaceMaterial(0xb9c4cf)));
-    this.setLayer('inputWireframe', 'input', edgeLines(mesh, this.origin, 0x2b3440, 0.35));
+  setInput(model) {
+    this.origin = boxCentre(model.positions);
+    const mesh = relativeTo(model, this.origin);
+    this.setLayer('inputSurface', 'input', new THREE.Mesh(surfaceGeometry(mesh), surfaceMaterial(0xb9c4cf)));
+    this.setLayer('inputWireframe', 'input', edgeLines(mesh, 0x2b3440, 0.35));
     this.setLayer('remeshSurface', 'remesh', null);
     this.setLayer('remeshWireframe', 'remesh', null);
     this.setLayer('singularities', 'remesh', null);
@@ -171,15 +172,16 @@ export class MeshViewer {
   }
 
   /** Shows the remesh; `regularValence` is 6 for triangles, 4 for quads. Returns the irregular vertices. */
-  setRemesh(mesh, regularValence) {
-    if (!this.layers.inputSurface) this.origin = boxCentre(mesh.positions);
-    this.setLayer('remeshSurface', 'remesh', new THREE.Mesh(surfaceGeometry(mesh, this.origin), surfaceMaterial(0xc9d6c3)));
-    this.setLayer('remeshWireframe', 'remesh', edgeLines(mesh, this.origin, 0x1b2a1b, 0.6));
+  setRemesh(model, regularValence) {
+    if (!this.layers.inputSurface) this.origin = boxCentre(model.positions);
+    const mesh = relativeTo(model, this.origin);
+    this.setLayer('remeshSurface', 'remesh', new THREE.Mesh(surfaceGeometry(mesh), surfaceMaterial(0xc9d6c3)));
+    this.setLayer('remeshWireframe', 'remesh', edgeLines(mesh, 0x1b2a1b, 0.6));
     this.irregular = irregularVertices(mesh, regularValence);
     const radius = 0.25 * meanEdgeLength(mesh);
     const markers = new THREE.Group();
-    markers.add(markerSpheres(mesh, this.origin, this.irregular.below, radius, kValenceColours.below));
-    markers.add(markerSpheres(mesh, this.origin, this.irregular.above, radius, kValenceColours.above));
+    markers.add(markerSpheres(mesh, this.irregular.below, radius, kValenceColours.below));
+    markers.add(markerSpheres(mesh, this.irregular.above, radius, kValenceColours.above));
     this.setLayer('singularities', 'remesh', markers);
     if (!this.layers.inputSurface) this.frame(this.layers.remeshSurface.geometry);
     return this.irregular;
@@ -187,7 +189,7 @@ export class MeshViewer {
 
   /** The hexagonal dual of the remesh, drawn as its polygon edges over the remesh. */
   setDual(mesh) {
-    this.setLayer('dual', 'remesh', edgeLines(mesh, this.origin, 0x7a1fa2));
+    this.setLayer('dual', 'remesh', edgeLines(relativeTo(mesh, this.origin), 0x7a1fa2));
   }
 
   /** The textured result (input geometry with per-corner texcoords), drawn with the hex tiling. */
@@ -195,7 +197,7 @@ export class MeshViewer {
     if (!mesh.texcoords) throw new Error('the textured result has no texture coordinates');
     const material = surfaceMaterial(0xffffff);
     material.map = this.hexTile;
-    this.setLayer('textured', 'input', new THREE.Mesh(texturedGeometry(mesh, this.origin), material));
+    this.setLayer('textured', 'input', new THREE.Mesh(texturedGeometry(relativeTo(mesh, this.origin)), material));
   }
 
   /** mode: 'input' | 'remesh' | 'side'; flags: wireframe, singularities, dual, texture. */
