@@ -576,12 +576,13 @@ double meanCreaseOffsetFromLatticeLines(const TriMesh& mesh, const RosyField& fi
   return sum / count;
 }
 
-// A 1 × 0.8 × 0.6 box and its field, whose sharp edges are the box's 12 edges.
+// A 1 × 0.8 × 0.6 box (each side split `divisions` times) and its field, whose sharp edges are
+// the box's 12 edges.
 struct BoxWithCreases {
-  TriMesh box = makeBox(1.0, 0.8, 0.6, 12);
+  TriMesh box;
   RosyField field;
 
-  BoxWithCreases() {
+  explicit BoxWithCreases(int divisions = 12) : box(makeBox(1.0, 0.8, 0.6, divisions)) {
     FieldOptions fieldOptions = latticeFieldOptions();
     fieldOptions.sharpEdgeAngle = 60.0;
     field = computeRosyField(box, fieldOptions);
@@ -606,10 +607,7 @@ TEST(HexCover, CreasesOfTheFieldLieOnLatticeLines) {
 TEST(HexCover, CreaseRowsAddedByALowRankUpdateGiveTheRefactorizedMap) {
   // Few enough crease edges that CHOLMOD's final solve takes them by a low-rank update of the
   // factorization; SimplicialLDLT factorizes the system with them again. The same map.
-  const TriMesh box = makeBox(1.0, 0.8, 0.6, 4);
-  FieldOptions fieldOptions = latticeFieldOptions();
-  fieldOptions.sharpEdgeAngle = 60.0;
-  const RosyField field = computeRosyField(box, fieldOptions);
+  const auto [box, field] = BoxWithCreases(4);
   ASSERT_FALSE(field.sharpEdges.empty());
   ParamOptions options;
   options.edgeLength = 0.13;
