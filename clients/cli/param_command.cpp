@@ -20,6 +20,7 @@
 #include "core/mesh/io.h"
 #include "core/mesh/load.h"
 #include "core/param/hexcover.h"
+#include "core/param/sizing.h"
 #include "core/param/texture.h"
 
 namespace hexcover::cli {

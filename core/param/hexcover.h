@@ -47,7 +47,7 @@ struct ParamOptions {
   /// Scale the field by the conformal factor of core/param/conformal_scale.h (target lengths
   /// vary, angles are kept); false: unit field, energy (4) with |F_u| = 1/h.
   bool conformalScale = true;
-  /// λ ≥ 0: extra weight on the anti-conformal part of the Jacobian (anisotropy), see hexcover.cpp.
+  /// λ ≥ 0: extra weight on the anti-conformal part of the Jacobian (anisotropy), see energy.h.
   double conformalWeight = 1.0;
   /// Greedy by default: once the integers are solved on the Schur complement it costs under a
   /// millisecond on the bunny and lowers the energy by 0-50% (bench_param).
@@ -59,7 +59,7 @@ struct ParamOptions {
   double greedyBatchFraction = 0.25;
   /// Weight of the creases of the field (RosyField::sharpEdges) per unit of crease length in
   /// lattice units, relative to energy (4) per unit of area: each crease edge along a lattice
-  /// direction is pulled onto its nearest lattice line (see hexcover.cpp). 0 ignores them.
+  /// direction is pulled onto its nearest lattice line (see energy.h). 0 ignores them.
   double creaseWeight = 10.0;
   /// Maximum stiffening re-solves while flipped triangles remain (0 disables stiffening).
   int maxStiffeningIterations = 10;
@@ -81,24 +81,6 @@ struct ParamOptions {
 /// mesh without faces, Error(NumericalFailure) when a solve fails, Error(Canceled) on request.
 Parameterization computeParameterization(const TriMesh& mesh, const RosyField& field,
                                          const ParamOptions& options, const RunContext& context = {});
-
-/// h such that a lattice of order n with sizing `vertexSizing` (#V, empty = uniform) covers the
-/// mesh with about K vertices: a regular triangulation has 2 triangles per vertex of area
-/// √3/4·(h/s)², so h = sqrt(2·Σ_f A_f s_f² / (√3·K)) for N = 6 (one square of area (h/s)² per
-/// vertex for N = 4). Throws Error(InvalidOption) for K < 1.
-double edgeLengthForVertexCount(const TriMesh& mesh, int targetVertices, int n,
-                                const std::vector<double>& vertexSizing = {});
-
-/// Curvature-adaptive sizing (paper Fig. 13): s_v = |κ_max(v)| / median |κ_max|, clamped to
-/// [minScale, maxScale]; a lattice unit near v is h / s_v. `absMaxCurvature` is #V, ≥ 0.
-/// Throws Error(InvalidOption) for an empty input or a range with minScale ≤ 0 or > maxScale.
-/// Smooths a per-vertex sizing (#V, > 0) over about `radius` (model units): log s diffuses by
-/// (I + (radius/ℓ)² L) log s' = log s, with L the graph Laplacian and ℓ the mean edge length.
-/// Sizing that varies faster than the field can follow creates curl, which the parameterization
-/// turns into anisotropy (curvature sizing as computed: angle SD 10-12° on spot and bunny_7k;
-/// smoothed over ~5 edge lengths: 6-7°). Values stay within the input's range (the system is an
-/// M-matrix). Throws Error(InvalidOption) for a wrong-sized or non-positive sizing.
-std::vector<double> smoothSizing(const TriMesh& mesh, const std::vector<double>& sizing, double radius);
 
 /// Default d_sing of the field for a parameterization at edge length h (the remesh pipeline and
 /// `hexcover param`): kSingularityDistanceInEdges · h. The paper picks d_sing = 0.1·B for models
@@ -127,11 +109,5 @@ FieldOptions parameterizationFieldOptions(int n, double edgeLength, double singu
 /// `hexcover param`): merges stop at index ±1/N, whose fixed point is a lattice point; a ±2/6 is
 /// best placed at a ⅓ lattice point, which the rounding of section 4.4 does not support.
 inline constexpr int kMergedIndexForLattice = 1;
-
-/// The radius of smoothSizing for curvature sizing, in uniform edge lengths (pipeline and CLI).
-inline constexpr double kSizingSmoothingInEdges = 5.0;
-
-std::vector<double> curvatureSizing(const std::vector<double>& absMaxCurvature, double minScale = 0.5,
-                                    double maxScale = 2.0);
 
 }  // namespace hexcover

@@ -15,12 +15,15 @@ namespace hexcover {
 /// True for the symmetry orders with a rotation-invariant lattice (4 and 6).
 inline bool isLatticeOrder(int n) { return n == 4 || n == 6; }
 
+/// k mod n in [0, n) (rotation indices), for any integer k and n > 0.
+inline int wrapIndex(int k, int n) { return ((k % n) + n) % n; }
+
 /// R^k for the lattice of order n (k any integer, taken mod n).
 inline Eigen::Matrix2i latticeRotation(int n, int k) {
   const Eigen::Matrix2i r = n == 6 ? (Eigen::Matrix2i() << 0, -1, 1, 1).finished()
                                    : (Eigen::Matrix2i() << 0, -1, 1, 0).finished();
   Eigen::Matrix2i result = Eigen::Matrix2i::Identity();
-  for (int i = ((k % n) + n) % n; i > 0; --i) result = r * result;
+  for (int i = wrapIndex(k, n); i > 0; --i) result = r * result;
   return result;
 }
 

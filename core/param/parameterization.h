@@ -61,7 +61,8 @@ struct Parameterization {
   double energy = 0.0;
   double localEnergy = 0.0;      ///< the same for the local step (no integer constraints; the
                                  ///< creases only aligned, not yet on lattice lines)
-  int latticeDescentMoves = 0;  ///< rounding improvements by lattice descent (see hexcover.cpp)
+  int latticeDescentMoves =
+      0;  ///< rounding improvements by lattice descent (EnergySystem::descendIntegers)
   int flippedBeforeStiffening = 0;  ///< flipped triangles right after the final solve (before
                                     ///< rounding repair and stiffening)
   int localRelaxations = 0;      ///< local re-solves around flipped triangles

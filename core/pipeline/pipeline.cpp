@@ -13,6 +13,7 @@
 #include "core/mesh/repair.h"
 #include "core/mesh/topology.h"
 #include "core/param/hexcover.h"
+#include "core/param/sizing.h"
 #include "core/param/texture.h"
 
 namespace hexcover {

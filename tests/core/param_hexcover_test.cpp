@@ -20,6 +20,7 @@
 #include "core/param/cut_graph.h"
 #include "core/param/hexcover.h"
 #include "core/param/lattice.h"
+#include "core/param/sizing.h"
 #include "tests/common/prescribed_fields.h"
 #include "tests/common/test_meshes.h"
 

@@ -1,0 +1,298 @@
+#include "core/param/fold_repair.h"
+
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "core/common/concurrency.h"
+#include "core/param/lattice.h"
+#include "core/param/rounding.h"
+
+namespace hexcover::param_detail {
+namespace {
+
+using SparseMatrix = Eigen::SparseMatrix<double>;
+using Triplet = Eigen::Triplet<double>;
+
+// llround(v), rounding half away from zero, for |v| < 2^52 without a library call: v − trunc(v)
+// is exact there.
+std::int64_t roundHalfAway(double v) {
+  const auto t = static_cast<std::int64_t>(v);
+  const double rest = v - static_cast<double>(t);
+  return t + static_cast<std::int64_t>(rest >= 0.5) - static_cast<std::int64_t>(rest <= -0.5);
+}
+
+}  // namespace
+
+SnappedCoordinates snapCoordinates(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
+                                   const Eigen::VectorXd& x, int n) {
+  using Vector2l = Eigen::Matrix<std::int64_t, 2, 1>;
+  const Eigen::Matrix2d toLattice = latticeBasis(n).inverse();
+  // Vertices without columns (isolated, deleted, paired or the gauge) stay at 0.
+  std::vector<Eigen::Vector2d> master(mesh.n_vertices(), Eigen::Vector2d::Zero());
+  Eigen::Vector2d largestMaster(1.0, 1.0);
+  for (std::size_t v = 0; v < master.size(); ++v) {
+    const int column = u.vertexColumn[v];
+    if (column < 0) continue;
+    master[v] = toLattice * x.segment<2>(column);
+    largestMaster = largestMaster.cwiseMax(master[v].cwiseAbs());
+  }
+  double largest = largestMaster.maxCoeff();
+  const std::vector<std::int64_t> rounded = roundedFreeUnknowns(u, x);
+  std::vector<std::int64_t> pairValue(2 * cm.pairCount);
+  for (int scalar = 0; scalar < 2 * cm.pairCount; ++scalar) {
+    pairValue[scalar] = integerValue(u, rounded, scalar);
+    largest = std::max(largest, std::abs(static_cast<double>(pairValue[scalar])));
+  }
+  SnappedCoordinates s;
+  s.exponent = std::min(30, 48 - static_cast<int>(std::ceil(std::log2(largest))));
+  const double scale = std::ldexp(1.0, s.exponent);
+  for (auto& value : pairValue) value *= std::int64_t{1} << s.exponent;
+  // The master coordinates in quanta (|value| ≤ 2^48): a vertex's own position, or its lattice
+  // point when it has a pair.
+  std::vector<Vector2l> snappedMaster(mesh.n_vertices(), Vector2l::Zero());
+  for (std::size_t v = 0; v < snappedMaster.size(); ++v) {
+    if (cm.vertexPair[v] >= 0)
+      snappedMaster[v] = {pairValue[2 * cm.vertexPair[v]], pairValue[2 * cm.vertexPair[v] + 1]};
+    else if (u.vertexColumn[v] >= 0)
+      snappedMaster[v] = {roundHalfAway(master[v].x() * scale),
+                          roundHalfAway(master[v].y() * scale)};
+  }
+  using Rotation = Eigen::Matrix<std::int64_t, 2, 2>;
+  std::vector<Rotation> rotation(n);  // R^k, k = 0 … n − 1 (the transforms' range)
+  for (int k = 0; k < n; ++k) rotation[k] = latticeRotation(n, k).cast<std::int64_t>();
+  s.wedge.resize(cm.wedgeVertex.size());
+  for (std::size_t w = 0; w < cm.wedgeVertex.size(); ++w) {
+    const auto& transform = cm.wedgeTransform[w];
+    const Vector2l& m = snappedMaster[cm.wedgeVertex[w]];
+    Vector2l z = transform.rotation == 0 ? m : Vector2l(rotation[transform.rotation] * m);
+    for (const auto& term : transform.terms) {
+      const Vector2l y(pairValue[2 * term.pair], pairValue[2 * term.pair + 1]);
+      z += term.sign * (rotation[term.rotation] * y);
+    }
+    s.wedge[w] = {z.x(), z.y()};
+  }
+  return s;
+}
+
+bool fewerFaults(const Orientation& a, const Orientation& b) {
+  return a.flipped != b.flipped ? a.flipped < b.flipped : a.degenerate < b.degenerate;
+}
+
+Orientation countOrientation(const TriMesh& mesh, const CutMesh& cm, const SnappedCoordinates& s,
+                             std::vector<bool>* flippedFaces, std::vector<bool>* degenerateFaces) {
+  Orientation o;
+  if (flippedFaces) flippedFaces->assign(mesh.n_faces(), false);
+  if (degenerateFaces) degenerateFaces->assign(mesh.n_faces(), false);
+  for (std::size_t f = 0; f < cm.faceWedges.size(); ++f) {
+    const auto& [z0, z1, z2] = cm.faceWedges[f];
+    const auto &a = s.wedge[z0], &b = s.wedge[z1], &c = s.wedge[z2];
+    const __int128 ax = b[0] - a[0], ay = b[1] - a[1];
+    const __int128 bx = c[0] - a[0], by = c[1] - a[1];
+    const __int128 det = ax * by - ay * bx;  // same sign in lattice and Cartesian coordinates
+    if (det == 0) {
+      ++o.degenerate;
+      if (degenerateFaces) (*degenerateFaces)[f] = true;
+    }
+    if (det < 0) {
+      ++o.flipped;
+      if (flippedFaces) (*flippedFaces)[f] = true;
+    }
+  }
+  return o;
+}
+
+void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u, EnergySystem& system,
+                    int n, int threads, Eigen::VectorXd& x, SnappedCoordinates& snapped,
+                    Orientation& orientation, std::vector<bool>& flippedFaces) {
+  const auto units = roundingUnits(u);
+  std::map<int, int> unitOfColumn;
+  for (std::size_t i = 0; i < units.size(); ++i)
+    for (const int column : units[i]) unitOfColumn[column] = static_cast<int>(i);
+  std::vector<bool> degenerateFaces;  // kept up to date with flippedFaces below
+  countOrientation(mesh, cm, snapped, nullptr, &degenerateFaces);
+  for (int pass = 0; pass < 4 && (orientation.flipped > 0 || orientation.degenerate > 0); ++pass) {
+    std::set<int> involved;
+    for (std::size_t f = 0; f < cm.faceWedges.size(); ++f) {
+      if (!flippedFaces[f] && !degenerateFaces[f]) continue;
+      for (const int wedge : cm.faceWedges[f])
+        for (const auto& row : u.wedgeRows[wedge])
+          for (const auto& [column, c] : row)
+            if (const auto it = unitOfColumn.find(column); it != unitOfColumn.end())
+              involved.insert(it->second);
+      if (involved.size() >= 32) break;
+    }
+    if (involved.empty()) return;  // the faulty corners do not depend on an integer unknown
+    // The units in order, each unit's moves in order: the first move that leaves fewer faults is
+    // kept. The moves of kUnitWindow units are judged at once, in parallel, from the current x;
+    // after a kept move judging goes on from the next unit, so the result is that of judging them
+    // one by one.
+    constexpr std::size_t kUnitWindow = 4;
+    const std::vector<int> order(involved.begin(), involved.end());
+    const int realCount = u.realCount;
+    bool improved = false;
+    for (std::size_t nextUnit = 0; nextUnit < order.size();) {
+      struct Trial {
+        std::size_t position;       // of the unit in `order`
+        std::size_t firstResponse;  // index in `responses` of the unit's first unknown
+        Eigen::Vector2d move;
+      };
+      std::vector<Trial> trials;
+      std::vector<int> columns;
+      const std::size_t end = std::min(order.size(), nextUnit + kUnitWindow);
+      for (std::size_t position = nextUnit; position < end; ++position) {
+        const auto& unit = units[order[position]];
+        const std::vector<Eigen::Vector2d> moves =
+            unit.size() == 2
+                ? std::vector<Eigen::Vector2d>{{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, -1}, {-1, 1}}
+                : std::vector<Eigen::Vector2d>{{1, 0}, {-1, 0}};
+        for (const auto& move : moves) trials.push_back({position, columns.size(), move});
+        columns.insert(columns.end(), unit.begin(), unit.end());
+      }
+      const std::vector<const Eigen::VectorXd*> responses = system.realResponses(columns);
+      const auto candidateOf = [&](const Trial& trial) {
+        const auto& unit = units[order[trial.position]];
+        Eigen::VectorXd candidate = x;
+        for (std::size_t k = 0; k < unit.size(); ++k) {
+          candidate.head(realCount) += trial.move[k] * *responses[trial.firstResponse + k];
+          candidate[unit[k]] += trial.move[k];
+        }
+        for (const int column : unit) candidate[column] = std::round(candidate[column]);
+        return candidate;
+      };
+      std::vector<Orientation> outcome(trials.size());
+      parallelFor(
+          trials.size(), threads,
+          [&](std::size_t k) {
+            outcome[k] =
+                countOrientation(mesh, cm, snapCoordinates(mesh, cm, u, candidateOf(trials[k]), n));
+          },
+          1);
+      const auto better = std::find_if(outcome.begin(), outcome.end(), [&](const Orientation& o) {
+        return fewerFaults(o, orientation);
+      });
+      if (better == outcome.end()) {
+        nextUnit = end;
+        continue;
+      }
+      const Trial& trial = trials[static_cast<std::size_t>(better - outcome.begin())];
+      x = candidateOf(trial);
+      snapped = snapCoordinates(mesh, cm, u, x, n);
+      orientation = countOrientation(mesh, cm, snapped, &flippedFaces, &degenerateFaces);
+      improved = true;
+      if (orientation.flipped == 0 && orientation.degenerate == 0) return;
+      nextUnit = trial.position + 1;
+    }
+    if (!improved) return;
+  }
+}
+
+int relaxFoldsLocally(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
+                      const LeastSquares& ls, const std::vector<double>& faceScale, int n,
+                      Eigen::VectorXd& x, SnappedCoordinates& snapped, Orientation& orientation,
+                      std::vector<bool>& flippedFaces) {
+  constexpr int kSolvesPerRegion = 4;
+  int solves = 0;
+  for (int rings = 2; rings <= 16 && orientation.flipped > 0; rings *= 2) {
+    // Region: vertices within `rings` edges of a flipped triangle's corners.
+    std::vector<int> depth(mesh.n_vertices(), -1);
+    std::vector<int> frontier;
+    for (const auto fh : mesh.faces())
+      if (flippedFaces[fh.idx()])
+        for (const auto vh : fh.vertices())
+          if (depth[vh.idx()] < 0) {
+            depth[vh.idx()] = 0;
+            frontier.push_back(vh.idx());
+          }
+    for (int ring = 1; ring <= rings; ++ring) {
+      std::vector<int> next;
+      for (const int v : frontier)
+        for (const auto wh : mesh.vv_range(mesh.vertex_handle(v)))
+          if (depth[wh.idx()] < 0) {
+            depth[wh.idx()] = ring;
+            next.push_back(wh.idx());
+          }
+      frontier = std::move(next);
+    }
+    std::vector<int> localColumn(u.realCount, -1), columns;
+    for (const auto vh : mesh.vertices())
+      if (depth[vh.idx()] >= 0 && u.vertexColumn[vh.idx()] >= 0)
+        for (int j = 0; j < 2; ++j) {
+          localColumn[u.vertexColumn[vh.idx()] + j] = static_cast<int>(columns.size());
+          columns.push_back(u.vertexColumn[vh.idx()] + j);
+        }
+    std::vector<int> faces;  // faces whose rows involve a region column
+    for (const auto fh : mesh.faces()) {
+      bool touches = false;
+      for (const auto vh : fh.vertices()) touches = touches || depth[vh.idx()] >= 0;
+      if (touches && ls.faceArea[fh.idx()] > 0.0) faces.push_back(fh.idx());
+    }
+    if (columns.empty()) continue;
+    std::vector<int> localRow(ls.target.size(), -1);
+    for (std::size_t k = 0; k < faces.size(); ++k)
+      for (int r = 0; r < kRowsPerFace; ++r)
+        localRow[kRowsPerFace * faces[k] + r] = static_cast<int>(kRowsPerFace * k + r);
+    std::vector<Triplet> triplets;
+    for (std::size_t j = 0; j < columns.size(); ++j)
+      for (SparseMatrix::InnerIterator it(ls.gradient, columns[j]); it; ++it)
+        if (localRow[it.row()] >= 0)
+          triplets.emplace_back(localRow[it.row()], static_cast<int>(j), it.value());
+    const int rows = kRowsPerFace * static_cast<int>(faces.size());
+    SparseMatrix local(rows, static_cast<int>(columns.size()));
+    local.setFromTriplets(triplets.begin(), triplets.end());
+    // Stiffening iterates like the global loop (each step from the last iterate, weights
+    // accumulated); the best iterate is kept.
+    std::vector<double> weight(faces.size(), 1.0);
+    Eigen::VectorXd current = x;
+    std::vector<bool> currentFlipped = flippedFaces;
+    // The region's rows split as local·x_C + (the held columns' part), and the right-hand side
+    // of local·y ≈ target − held part is fixed for the region.
+    Eigen::VectorXd xc(columns.size());
+    for (std::size_t j = 0; j < columns.size(); ++j) xc[j] = x[columns[j]];
+    const Eigen::VectorXd full = ls.gradient * x;
+    Eigen::VectorXd rhs(rows);
+    for (std::size_t k = 0; k < faces.size(); ++k)
+      rhs.segment<kRowsPerFace>(kRowsPerFace * k) =
+          ls.target.segment<kRowsPerFace>(kRowsPerFace * faces[k]) -
+          full.segment<kRowsPerFace>(kRowsPerFace * faces[k]);
+    rhs += local * xc;
+    for (int step = 0; step < kSolvesPerRegion && orientation.flipped > 0; ++step) {
+      const Eigen::VectorXd residual = local * xc - rhs;
+      Eigen::VectorXd rowWeight(rows);
+      for (std::size_t k = 0; k < faces.size(); ++k) {
+        const int f = faces[k];
+        const double misfit = residual.segment<kEnergyRows>(kRowsPerFace * k).squaredNorm() /
+                              (2.0 * faceScale[f] * faceScale[f]);
+        weight[k] += std::min(5.0 * misfit, 20.0);
+        if (currentFlipped[f]) weight[k] *= 2.0;
+        rowWeight.segment<kRowsPerFace>(kRowsPerFace * k).setConstant(ls.faceArea[f] * weight[k]);
+      }
+      const SparseMatrix weighted = rowWeight.asDiagonal() * local;
+      SparseMatrix normal = SparseMatrix(local.transpose()) * weighted;
+      const double regularization = 1e-14 * normal.diagonal().cwiseAbs().maxCoeff();
+      for (int j = 0; j < normal.cols(); ++j) normal.coeffRef(j, j) += regularization;
+      const Eigen::SimplicialLDLT<SparseMatrix> solver(normal);
+      if (solver.info() != Eigen::Success) return solves;
+      const Eigen::VectorXd y = solver.solve(weighted.transpose() * rhs);
+      ++solves;
+      if (!y.allFinite()) return solves;
+      xc = y;
+      for (std::size_t j = 0; j < columns.size(); ++j) current[columns[j]] = y[j];
+      SnappedCoordinates currentSnap = snapCoordinates(mesh, cm, u, current, n);
+      const Orientation currentOrientation =
+          countOrientation(mesh, cm, currentSnap, &currentFlipped);
+      if (currentOrientation.flipped >= orientation.flipped ||
+          currentOrientation.degenerate > orientation.degenerate)
+        continue;
+      x = current;
+      snapped = std::move(currentSnap);
+      orientation = currentOrientation;
+      flippedFaces = currentFlipped;
+    }
+  }
+  return solves;
+}
+
+}  // namespace hexcover::param_detail
