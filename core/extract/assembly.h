@@ -1,0 +1,73 @@
+#pragma once
+// Internal to core/extract: the output under construction (vertices and indexed triangles) and
+// the repairs that keep it a manifold with the input's components (extract.h, steps 4 and 6).
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "core/extract/boundary.h"
+#include "core/extract/extract.h"
+#include "core/mesh/mesh.h"
+
+namespace hexcover::extract_detail {
+
+/// The output under construction: vertices (with the input component they belong to) and
+/// triangles as indices.
+struct Assembly {
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<int> component;
+  std::vector<Triangle> triangles;
+  /// Vertices that make up the output's boundary loops (samples on the input boundary, or the
+  /// lattice fronts in BoundaryMode::Lattice); holes through other vertices are gaps to fill.
+  std::vector<bool> onBoundary;
+
+  int addVertex(const Eigen::Vector3d& p, int inputComponent) {
+    positions.push_back(p);
+    component.push_back(inputComponent);
+    onBoundary.push_back(false);
+    return static_cast<int>(positions.size()) - 1;
+  }
+};
+
+/// Mean length of the triangle edges at each vertex (0 where none): the local edge length.
+std::vector<double> localEdgeLength(const Assembly& out);
+
+/// Per vertex: the number of distinct neighbours in the triangles.
+std::vector<int> vertexValences(const Assembly& out);
+
+/// Area-weighted normal of the triangles at each vertex (zero where none).
+std::vector<Eigen::Vector3d> vertexNormals(const Assembly& out);
+
+/// Step 4a: drops triangles with a repeated corner and triangles that reuse a directed edge
+/// (a lattice triangle covered twice, or overlapping ones at a fold), keeping the first.
+void dropDegenerateAndOverlapping(std::vector<Triangle>& triangles, ExtractionReport& report);
+
+/// Removes the vertices listed in `drop` with their triangles.
+void removeVertices(Assembly& out, const std::vector<bool>& drop);
+
+/// Fills the stretches of a boundary loop that are not on the output boundary: the whole loop
+/// when none of it is, else each run of off-boundary vertices together with the boundary
+/// vertices on either side (a notch in the boundary). The triangles go to `added`.
+void fillGap(const std::vector<int>& loop, Assembly& out, std::vector<Triangle>& added,
+             ExtractionReport& report);
+
+/// Step 4c: what the previous steps left non-manifold is repaired locally: triangles that reuse
+/// a directed edge are dropped, the triangles around a vertex with several fans are removed, and
+/// the holes this leaves are filled (only their stretches off the output boundary).
+void repairNonManifold(Assembly& out, ExtractionReport& report);
+
+/// Step 6: an input component is copied unchanged when no lattice triangle fits on it, or (Follow
+/// mode) when its lattice triangles do not have its topology (Euler characteristic, boundary
+/// loops, one piece): a component too small for the lattice, or one whose remesh would close a
+/// hole (counted apart: the pipeline redoes such a run on another lattice).
+void keepComponentsTooSmallForTheLattice(const TriMesh& mesh, const std::vector<int>& faceComponent,
+                                         int componentCount, const ExtractOptions& options,
+                                         Assembly& out, ExtractionReport& report);
+
+/// The referenced vertices and the triangles as an OpenMesh mesh; faces OpenMesh refuses (they
+/// would make a vertex or edge non-manifold) are counted, and the holes they leave (boundary
+/// loops through no vertex of the output's boundary) are closed by a fan around the loop's
+/// centroid, as in step 4.
+TriMesh buildMesh(const Assembly& out, ExtractionReport& report);
+
+}  // namespace hexcover::extract_detail

@@ -1,0 +1,394 @@
+#include "core/extract/front_stitching.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <utility>
+
+#include "core/extract/boundary.h"
+
+namespace hexcover::extract_detail {
+namespace {
+
+using HH = TriMesh::HalfedgeHandle;
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  return values[values.size() / 2];
+}
+
+/// The input's boundary loops (vertex positions in face order, surface on the left) and the
+/// component of each.
+void inputBoundaryLoops(const TriMesh& mesh, const std::vector<int>& faceComponent,
+                        std::vector<std::vector<Eigen::Vector3d>>& loops,
+                        std::vector<int>& loopComponent) {
+  std::vector<bool> seen(mesh.n_halfedges(), false);
+  for (const auto start : mesh.halfedges()) {
+    if (!mesh.is_boundary(start) || seen[start.idx()]) continue;
+    // Boundary halfedges run against the faces; collect, then reverse to face order.
+    std::vector<Eigen::Vector3d> loop;
+    HH h = start;
+    do {
+      seen[h.idx()] = true;
+      loop.push_back(toEigen(mesh.point(mesh.from_vertex_handle(h))));
+      h = mesh.next_halfedge_handle(h);
+    } while (h != start);
+    std::reverse(loop.begin(), loop.end());
+    loops.push_back(std::move(loop));
+    loopComponent.push_back(
+        faceComponent[mesh.face_handle(mesh.opposite_halfedge_handle(start)).idx()]);
+  }
+}
+
+/// Samples up to this many places from a corner share its move (see stitchFrontByValence).
+constexpr int kCornerSpread = 2;
+/// A corner moves the nearest sample at most this many sample spacings; a corner farther from
+/// every free sample is not resolved at this edge length, unless it is sharper than
+/// kOwnSampleCornerAngle.
+constexpr double kCornerReach = 0.5;
+/// A boundary corner that turns by more than this many degrees gets a sample of its own when no
+/// free sample is within kCornerReach spacings (at the price of a valence-7 front vertex).
+constexpr double kOwnSampleCornerAngle = 80.0;
+
+/// Stitches a front to its single input loop so that every front vertex gets valence 6 (paper
+/// 5.2: irregular vertices only at singularities). A front vertex with a = latticeValence lattice
+/// edges is joined
+/// to d = max(1, 6 − a) consecutive boundary samples; neighbouring front vertices share one, so
+/// the loop gets Σ(d − 1) samples. The sample shared by two front vertices sits at the middle of
+/// their arc positions on the loop, the others of a front vertex evenly between its shared ones.
+/// Each sharp corner of the loop takes the place of the nearest free sample within kCornerReach
+/// spacings. Returns false (and adds nothing) for a front that runs back along the loop, corners
+/// that would reorder the samples, or fewer than 3 samples.
+bool stitchFrontByValence(const BoundaryIndex& index, int loop, int component,
+                          const std::vector<int>& front, const std::vector<double>& frontArc,
+                          const std::vector<int>& latticeValence, double spacing,
+                          const ExtractOptions& options, Assembly& out,
+                          std::vector<Triangle>& added, std::vector<LoopSamples>& loopSamples,
+                          ExtractionReport& report) {
+  const std::size_t n = front.size();
+  const double length = index.loopLength(loop);
+  if (frontArc.back() - frontArc.front() > length) return false;
+  // Front vertex j is joined to samples first[j] .. first[j + 1] (indices modulo the count).
+  std::vector<int> first(n + 1, 0);
+  for (std::size_t j = 0; j < n; ++j)
+    first[j + 1] = first[j] + std::max(1, 6 - latticeValence[front[j]]) - 1;
+  int m = first[n];
+  if (m < 3) return false;
+
+  // Unwrapped arcs: sample m is sample 0 one loop later.
+  const auto arcOf = [&](std::size_t j) { return j < n ? frontArc[j] : frontArc[j - n] + length; };
+  std::vector<double> sum(m + 1, 0.0), count(m + 1, 0.0);
+  for (std::size_t j = 0; j < n; ++j) {
+    sum[first[j + 1]] += 0.5 * (arcOf(j) + arcOf(j + 1));
+    count[first[j + 1]] += 1.0;
+  }
+  sum[0] += sum[m] - count[m] * length;
+  count[0] += count[m];
+  std::vector<double> arc(m + 1, 0.0);
+  for (int k = 0; k < m; ++k)
+    if (count[k] > 0.0) arc[k] = sum[k] / count[k];
+  arc[m] = arc[0] + length;
+  for (std::size_t j = 0; j < n; ++j)
+    for (int k = first[j] + 1; k < first[j + 1]; ++k)
+      arc[k] = arc[first[j]] +
+               (arc[first[j + 1]] - arc[first[j]]) * (k - first[j]) / (first[j + 1] - first[j]);
+  const auto wrapped = [&](double a) { return a - length * std::floor(a / length); };
+  // Sharp corners are samples: the nearest sample moves onto each corner, and the samples up to
+  // kCornerSpread places away follow a decreasing part of its move, so that the strip's
+  // triangles around the corner share the distortion.
+  std::vector<bool> corner(m, false);
+  std::vector<double> shift(m, 0.0);
+  // Corners in loop order from arc[0], each on the nearest sample after the previous corner's.
+  std::vector<double> turns;
+  const std::vector<double> cornerArcs =
+      sharpCorners(index, loop, spacing, options.sharpBoundaryAngle, &turns);
+  std::vector<std::pair<double, double>> corners;  // (unwrapped arc, degrees the loop turns)
+  for (std::size_t c = 0; c < cornerArcs.size(); ++c)
+    corners.emplace_back(arc[0] + wrapped(cornerArcs[c] - arc[0]), turns[c]);
+  std::sort(corners.begin(), corners.end());
+  int next = 0;
+  for (const auto& [at, turn] : corners) {
+    int nearest = next;
+    for (int k = next + 1; k < m; ++k)
+      if (std::abs(arc[k] - at) < std::abs(arc[nearest] - at)) nearest = k;
+    if (nearest < m && std::abs(arc[nearest] - at) <= kCornerReach * spacing) {
+      corner[nearest] = true;
+      shift[nearest] = at - arc[nearest];
+      next = nearest + 1;
+      continue;
+    }
+    // No free sample within kCornerReach spacings: a corner sharper than kOwnSampleCornerAngle
+    // gets a sample of its own, in the fan of the front vertex whose samples bracket it, which
+    // then has valence 7 (a square plate at h = 0.1 lost two of its corners: 3.2% Hausdorff
+    // distance); a blunter one is not resolved at this edge length.
+    if (!(turn > kOwnSampleCornerAngle)) continue;
+    const int atIndex = static_cast<int>(
+        std::upper_bound(arc.begin() + std::max(next, 1), arc.begin() + m, at) - arc.begin());
+    arc.insert(arc.begin() + atIndex, at);
+    corner.insert(corner.begin() + atIndex, true);
+    shift.insert(shift.begin() + atIndex, 0.0);
+    for (int& f : first) f += f >= atIndex ? 1 : 0;
+    ++m;
+    next = atIndex + 1;
+  }
+  std::vector<double> moved(arc.begin(), arc.begin() + m);
+  for (int k = 0; k < m; ++k) {
+    if (corner[k]) {
+      moved[k] += shift[k];
+      continue;
+    }
+    // The nearest corner sample on either side within kCornerSpread places.
+    double move = 0.0, weight = 0.0;
+    for (int d = 1; d <= kCornerSpread; ++d)
+      for (const int i : {(k + d) % m, (k - d + m) % m})
+        if (corner[i]) {
+          const double w = 1.0 - static_cast<double>(d) / (kCornerSpread + 1);
+          move += w * shift[i];
+          weight += 1.0;
+        }
+    if (weight > 0.0) moved[k] += move / weight;
+  }
+  for (int k = 0; k < m; ++k) {
+    const double following = k + 1 < m ? moved[k + 1] : moved[0] + length;
+    if (!(moved[k] < following)) return false;  // the corners would reorder the samples
+  }
+  std::copy(moved.begin(), moved.end(), arc.begin());
+  arc[m] = arc[0] + length;
+  std::vector<int> sample(m);
+  for (int k = 0; k < m; ++k) {
+    sample[k] = out.addVertex(index.pointAt(loop, wrapped(arc[k])), component);
+    out.onBoundary[sample[k]] = true;
+  }
+  report.boundarySamples += m;
+  // Triangles in the zip's orientation (see stitchStrip): outer steps {s_k, s_k+1, f_j}, then
+  // the front step {f_j+1, f_j, s}.
+  for (std::size_t j = 0; j < n; ++j) {
+    for (int k = first[j]; k < first[j + 1]; ++k)
+      added.push_back({sample[k % m], sample[(k + 1) % m], front[j]});
+    added.push_back({front[(j + 1) % n], front[j], sample[first[j + 1] % m]});
+  }
+  // For the slides: the samples in ascending arc order in [0, length).
+  LoopSamples samples{loop, spacing, {}, {}, {}};
+  std::vector<int> order(m);
+  std::iota(order.begin(), order.end(), 0);
+  std::rotate(order.begin(),
+              std::min_element(order.begin(), order.end(),
+                               [&](int a, int b) { return wrapped(arc[a]) < wrapped(arc[b]); }),
+              order.end());
+  for (const int k : order) {
+    samples.vertex.push_back(sample[k]);
+    samples.arc.push_back(wrapped(arc[k]));
+    samples.corner.push_back(corner[k]);
+  }
+  loopSamples.push_back(std::move(samples));
+  return true;
+}
+
+/// Samples the input loops `inputs` at the front's edge length and stitches the strip between
+/// them and the lattice front (step 5). With several input loops, the front visits them one after
+/// the other; their samples are chained into one outer loop, each loop walked once around from
+/// the sample where the front arrives and joined to the next by a bridge edge, so the strip (a
+/// sphere with 1 + k holes) is triangulated in one zip. A front along a single loop is stitched
+/// by valence when it can be (stitchFrontByValence).
+void stitchFront(const BoundaryIndex& index, const std::vector<int>& inputLoopComponent,
+                 const std::vector<int>& inputs, std::vector<int> front,
+                 const std::vector<double>& h, const std::vector<int>& latticeValence,
+                 const std::vector<Eigen::Vector3d>& normals, const ExtractOptions& options,
+                 Assembly& out, std::vector<Triangle>& added, std::vector<Triangle>& regular,
+                 std::vector<LoopSamples>& loopSamples, ExtractionReport& report) {
+  const std::size_t n = front.size();
+  std::vector<double> frontH;
+  for (const int v : front) frontH.push_back(h[v]);
+  const double spacing = median(frontH);
+  // The nearest of the input loops for each front vertex, and the arc position on it.
+  std::vector<int> label(n);
+  std::vector<double> arc(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    BoundaryIndex::Hit best;
+    for (const int i : inputs) {
+      const auto hit = index.nearestOnLoop(out.positions[front[j]], i);
+      if (hit.distance < best.distance) best = hit;
+    }
+    label[j] = best.loop, arc[j] = best.arc;
+  }
+  const auto addSamples = [&](int i) {
+    std::vector<bool> corner;
+    std::vector<double> sampleArc =
+        sampleBoundaryLoop(index, i, spacing, options.sharpBoundaryAngle, &corner);
+    std::vector<int> samples;
+    for (const double s : sampleArc) {
+      samples.push_back(out.addVertex(index.pointAt(i, s), inputLoopComponent[i]));
+      out.onBoundary[samples.back()] = true;
+    }
+    report.boundarySamples += static_cast<long long>(samples.size());
+    loopSamples.push_back({i, spacing, samples, sampleArc, corner});
+    return std::pair{samples, sampleArc};
+  };
+  if (inputs.size() == 1) {
+    std::vector<int> valenceFront = front;
+    std::vector<double> valenceArc = arc;
+    alignFrontToLoop({arc[0]}, valenceFront, valenceArc, index.loopLength(inputs[0]));
+    for (std::size_t j = 1; j < n; ++j) valenceArc[j] = std::max(valenceArc[j], valenceArc[j - 1]);
+    if (stitchFrontByValence(index, inputs[0], inputLoopComponent[inputs[0]], valenceFront,
+                             valenceArc, latticeValence, spacing, options, out, regular,
+                             loopSamples, report))
+      return;
+    const auto [samples, sampleArc] = addSamples(inputs[0]);
+    alignFrontToLoop(sampleArc, front, arc, index.loopLength(inputs[0]));
+    stitchStrip(out.positions, normals, samples, sampleArc, front, arc, index.loopLength(inputs[0]),
+                added);
+    return;
+  }
+  // Start the front where its label changes, so that each loop's first run begins a piece.
+  std::size_t start = 0;
+  for (std::size_t j = 0; j < n; ++j)
+    if (label[j] != label[(j + n - 1) % n]) {
+      start = j;
+      break;
+    }
+  std::vector<int> order;  // the input loops in the order the front reaches them
+  std::vector<double> entryArc;
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t j = (start + k) % n;
+    if (std::find(order.begin(), order.end(), label[j]) == order.end())
+      order.push_back(label[j]), entryArc.push_back(arc[j]);
+  }
+  std::vector<int> outer;
+  std::vector<double> outerParam;
+  std::map<int, std::pair<double, double>> offsetAndStart;  // loop -> (offset, start arc)
+  double offset = 0.0;
+  for (std::size_t o = 0; o < order.size(); ++o) {
+    const int i = order[o];
+    const double length = index.loopLength(i);
+    const auto [samples, sampleArc] = addSamples(i);
+    const auto wrapped = [&](double d) { return d - length * std::floor(d / length); };
+    std::size_t first = 0;
+    for (std::size_t k = 1; k < samples.size(); ++k)
+      if (std::min(wrapped(sampleArc[k] - entryArc[o]),
+                   length - wrapped(sampleArc[k] - entryArc[o])) <
+          std::min(wrapped(sampleArc[first] - entryArc[o]),
+                   length - wrapped(sampleArc[first] - entryArc[o])))
+        first = k;
+    if (!outer.empty())
+      offset += (out.positions[outer.back()] - out.positions[samples[first]]).norm();
+    offsetAndStart[i] = {offset, sampleArc[first]};
+    for (std::size_t k = 0; k <= samples.size(); ++k) {
+      const std::size_t at = (first + k) % samples.size();
+      outer.push_back(samples[at]);
+      outerParam.push_back(
+          offset + (k == samples.size() ? length : wrapped(sampleArc[at] - sampleArc[first])));
+    }
+    offset = outerParam.back();
+  }
+  const double total = offset + (out.positions[outer.back()] - out.positions[outer.front()]).norm();
+  std::vector<int> rotated(n);
+  std::vector<double> param(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t j = (start + k) % n;
+    rotated[k] = front[j];
+    const auto [base, startArc] = offsetAndStart.at(label[j]);
+    const double length = index.loopLength(label[j]);
+    double d = arc[j] - startArc;
+    d -= length * std::floor(d / length);
+    if (d > 0.75 * length) d -= length;  // just before the piece's first sample
+    param[k] = base + d;
+  }
+  stitchStrip(out.positions, normals, outer, outerParam, rotated, param, total, added);
+}
+
+}  // namespace
+
+void closeBoundaries(const TriMesh& mesh, const std::vector<int>& faceComponent,
+                     const ExtractOptions& options, Assembly& out, ExtractionReport& report) {
+  std::vector<std::vector<Eigen::Vector3d>> inputLoops;
+  std::vector<int> inputLoopComponent;
+  inputBoundaryLoops(mesh, faceComponent, inputLoops, inputLoopComponent);
+  std::vector<double> h = localEdgeLength(out);
+  const double typical = median(std::vector<double>(h.begin(), h.end()));
+  if (typical <= 0.0) return;  // no lattice triangles at all
+  const BoundaryIndex index(inputLoops, 2.0 * typical);
+
+  if (options.boundary == BoundaryMode::Follow && !inputLoops.empty()) {
+    std::vector<bool> drop(out.positions.size(), false);
+    for (std::size_t v = 0; v < out.positions.size(); ++v) {
+      if (h[v] <= 0.0) continue;
+      const auto hit = index.nearest(out.positions[v], options.boundarySnapDistance * h[v]);
+      if (hit.loop >= 0) drop[v] = true, ++report.boundarySnapped;
+    }
+    removeVertices(out, drop);
+    h = localEdgeLength(out);
+  }
+
+  // Classify the loops of the lattice triangles: a front when most of its vertices are within
+  // reach of the input boundary, else a gap. Each input loop is stitched to the front that has
+  // the most vertices near it; a front near several loops (the lattice does not fit between
+  // them) is stitched to all of them at once.
+  const auto loops = traceBoundaryLoops(out.triangles);
+  std::vector<std::map<int, int>> votes(loops.size());
+  std::vector<bool> isFront(loops.size(), false);
+  for (std::size_t l = 0; l < loops.size(); ++l) {
+    int near = 0;
+    for (const int v : loops[l]) {
+      const double reach = (options.boundarySnapDistance + 2.0) * std::max(h[v], typical);
+      const auto hit = index.nearest(out.positions[v], reach);
+      if (hit.loop >= 0) ++votes[l][hit.loop], ++near;
+    }
+    isFront[l] = 2 * near >= static_cast<int>(loops[l].size());
+  }
+  std::vector<int> owner(inputLoops.size(), -1);
+  for (std::size_t l = 0; l < loops.size(); ++l) {
+    if (!isFront[l]) continue;
+    for (const auto& [i, count] : votes[l])
+      if (count >= 2 && (owner[i] < 0 || count > votes[owner[i]].at(i)))
+        owner[i] = static_cast<int>(l);
+  }
+  std::vector<std::vector<int>> assigned(loops.size());
+  for (int i = 0; i < static_cast<int>(inputLoops.size()); ++i)
+    if (owner[i] >= 0) assigned[owner[i]].push_back(i);
+
+  std::vector<bool> componentHasLattice(
+      *std::max_element(faceComponent.begin(), faceComponent.end()) + 1, false);
+  for (const auto& t : out.triangles) componentHasLattice[out.component[t[0]]] = true;
+  for (int i = 0; i < static_cast<int>(inputLoops.size()); ++i)
+    if (owner[i] < 0 && componentHasLattice[inputLoopComponent[i]]) ++report.unmatchedBoundaryLoops;
+
+  const std::vector<Eigen::Vector3d> normals = vertexNormals(out);
+  const std::vector<int> latticeValence = vertexValences(out);
+  // Strip and fill triangles: `added` may be flipped; `regular` (stitched by valence) keeps its
+  // connectivity, which gives every front vertex valence 6.
+  std::vector<Triangle> added, regular;
+  std::vector<LoopSamples> loopSamples;  // the samples of every stitched input loop
+  std::vector<int> gaps;
+  for (std::size_t l = 0; l < loops.size(); ++l) {
+    if (assigned[l].empty()) {
+      gaps.push_back(static_cast<int>(l));
+      continue;
+    }
+    if (options.boundary != BoundaryMode::Follow) {
+      for (const int v : loops[l]) out.onBoundary[v] = true;
+      continue;
+    }
+    const std::size_t before = added.size() + regular.size();
+    stitchFront(index, inputLoopComponent, assigned[l], loops[l], h, latticeValence, normals,
+                options, out, added, regular, loopSamples, report);
+    report.stripTriangles += static_cast<long long>(added.size() + regular.size() - before);
+  }
+  std::sort(gaps.begin(), gaps.end());
+  for (const int l : gaps) fillGap(loops[l], out, added, report);
+  // Samples slide along the input boundary to open up the strip's thin triangles, then flips;
+  // a second slide after the flips.
+  const auto strips = [&] {
+    std::vector<Triangle> all = added;
+    all.insert(all.end(), regular.begin(), regular.end());
+    return all;
+  };
+  report.boundarySlides += slideBoundarySamples(index, loopSamples, strips(), out.positions);
+  out.triangles.insert(out.triangles.end(), regular.begin(), regular.end());
+  report.stripFlips += improveByFlips(out.positions, out.triangles, added);
+  report.boundarySlides += slideBoundarySamples(index, loopSamples, strips(), out.positions);
+  out.triangles.insert(out.triangles.end(), added.begin(), added.end());
+}
+
+}  // namespace hexcover::extract_detail
