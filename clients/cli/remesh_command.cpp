@@ -89,6 +89,7 @@ nlohmann::json metricsDocument(const RemeshResult& result) {
                         {"unmatched_boundary_loops", r.unmatchedBoundaryLoops},
                         {"components_kept", r.componentsKept},
                         {"components_kept_for_topology", r.componentsKeptForTopology},
+                        {"components", r.components},
                         {"feature_snaps", r.featureSnaps},
                         {"smoothed_vertices", r.smoothedVertices},
                         {"relaxed_vertices", r.relaxedVertices},

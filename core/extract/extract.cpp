@@ -75,6 +75,7 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
   ExtractionReport& report = result.report;
   int componentCount = 0;
   const std::vector<int> faceComponent = faceComponents(mesh, componentCount);
+  report.components = componentCount;
   Assembly out;
   extractLattice(mesh, param, faceComponent, out, report, context);
   {

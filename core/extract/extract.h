@@ -114,6 +114,7 @@ struct ExtractionReport {
   long long holesFilled = 0;           ///< interior holes (coverage gaps) closed locally
   long long holeTriangles = 0;         ///< triangles added to close them
   long long unmatchedBoundaryLoops = 0;  ///< input boundary loops without a single lattice front
+  long long components = 0;              ///< components of the input (connected through edges)
   long long componentsKept = 0;  ///< input components too small for the lattice (step 6), copied
   /// Of those, components with lattice triangles enough whose triangles did not have the
   /// component's topology (BoundaryMode::Follow): another lattice (edge length) may fit.

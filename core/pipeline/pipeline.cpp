@@ -61,7 +61,7 @@ void addTiming(Timings& timings, const std::string& step, double seconds) {
 
 /// The result's warnings (RemeshResult::warnings); countError = |V − K| / K.
 std::vector<std::string> remeshWarnings(const RemeshResult& result, double countError,
-                                        const RemeshOptions& options) {
+                                        bool topologyMissed, const RemeshOptions& options) {
   std::vector<std::string> warnings;
   const long long copied = result.remesh.report.componentsKept;
   if (copied > 0) {
@@ -79,10 +79,17 @@ std::vector<std::string> remeshWarnings(const RemeshResult& result, double count
                        " parameter triangles stayed folded; the extraction filled the gaps, which "
                        "puts irregular vertices away from the singularities there (another "
                        "vertex count may avoid it)");
-  if (options.targetVertices && countError > 0.1)
-    warnings.push_back("the remesh has " + std::to_string(result.remesh.triangles.n_vertices()) +
+  if (options.targetVertices && countError > 0.1) {
+    const auto vertices = static_cast<long long>(result.remesh.triangles.n_vertices());
+    const bool moreForTopology =
+        topologyMissed && copied == 0 && vertices > *options.targetVertices;
+    warnings.push_back("the remesh has " + std::to_string(vertices) +
                        " vertices, more than 10% away from the " +
-                       std::to_string(*options.targetVertices) + " asked for");
+                       std::to_string(*options.targetVertices) + " asked for" +
+                       (moreForTopology ? ": remeshes with fewer vertices did not keep the "
+                                          "input's topology (a part too thin for them)"
+                                        : ""));
+  }
   return warnings;
 }
 
@@ -150,11 +157,16 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   // h is rescaled by sqrt(V / K) until the remesh is within 8% of K (the promise is 10%). A remesh
   // whose topology differs from the repaired input's (fold-overs that neither the
   // parameterization nor the extraction's repair removed) is redone with h 3% smaller, where the
-  // lattice falls differently. The best run is kept: the input's topology first, then the
-  // vertex count closest to K.
+  // lattice falls differently; a second miss means the lattice is too coarse for the shape (a
+  // handle or a part narrower than a few edge lengths), and h then shrinks by 15% per run when
+  // h comes from a vertex count K below half the input's vertices. The best run is kept: the
+  // input's topology first, then the vertex count closest to K. So a vertex count too small for
+  // the shape gives a remesh with more vertices (and a warning that says why) rather than the
+  // input copied unchanged (fertility at K = 218: 353 vertices; the input has 13,971).
   constexpr int kMaxRuns = 4;
   constexpr double kTolerance = 0.08;
   constexpr double kTopologyRetryScale = 0.97;
+  constexpr double kCoarseTopologyScale = 0.85;
   const MeshTopology inputTopology = computeTopology(mesh);
   ExtractOptions extractOptions;
   extractOptions.balanceDeviation = options.placement == VertexPlacement::Balanced;
@@ -171,6 +183,8 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
     }
   };
   std::optional<Run> best;
+  int topologyMisses = 0;
+  const bool mayRefine = !options.edgeLength && 2 * target < usedVertexCount(mesh);
   for (int run = 1;; ++run) {
     auto start = Clock::now();
     ParamOptions paramOptions;
@@ -190,25 +204,33 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
     addTiming(result.timings, "extraction", secondsSince(start));
     result.sizeIterations = run;
     // A component copied because its lattice triangles had another topology counts as a
-    // topology miss, and its vertices do not measure h: the next run takes the topology step.
-    const bool copiedForTopology = current.remesh.report.componentsKeptForTopology > 0;
+    // topology miss, and so does, when the lattice may be refined, a remesh that is the input
+    // copied whole (no component took the lattice): their vertices do not measure h, and the
+    // next run takes the topology step.
+    const ExtractionReport& report = current.remesh.report;
+    const bool copiedWhole = report.components > 0 && report.componentsKept == report.components;
+    const bool latticeTooCoarse =
+        report.componentsKeptForTopology > 0 || (mayRefine && copiedWhole);
     current.topologyKept =
-        !copiedForTopology && computeTopology(current.remesh.triangles).sameAs(inputTopology);
+        !latticeTooCoarse && computeTopology(current.remesh.triangles).sameAs(inputTopology);
     const double vertices = static_cast<double>(current.remesh.triangles.n_vertices());
     if (options.targetVertices)
       current.countError =
           std::abs(vertices - static_cast<double>(target)) / static_cast<double>(target);
-    const bool rescale = current.countError > kTolerance && vertices > 0.0 && !copiedForTopology;
+    const bool rescale = current.countError > kTolerance && vertices > 0.0 && !latticeTooCoarse;
     const bool done = current.topologyKept && !rescale;
+    topologyMisses += current.topologyKept ? 0 : 1;
     if (!best || current.betterThan(*best)) best = std::move(current);
     if (done || run == kMaxRuns) break;
-    h *= rescale ? std::sqrt(vertices / static_cast<double>(target)) : kTopologyRetryScale;
+    h *= rescale                           ? std::sqrt(vertices / static_cast<double>(target))
+         : topologyMisses > 1 && mayRefine ? kCoarseTopologyScale
+                                           : kTopologyRetryScale;
   }
   Parameterization param = std::move(best->param);
   result.remesh = std::move(best->remesh);
   result.edgeLength = param.edgeLength;
   result.flippedParamTriangles = param.flippedTriangles;
-  result.warnings = remeshWarnings(result, best->countError, options);
+  result.warnings = remeshWarnings(result, best->countError, topologyMisses > 0, options);
   context.throwIfCanceled();
 
   // Textured input and metrics.

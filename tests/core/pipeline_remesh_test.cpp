@@ -265,6 +265,25 @@ TEST(PipelineRemesh, ReturnsAMeshCopiedWholeAsItIs) {
   EXPECT_TRUE(sortedPoints(out) == sortedPoints(torus));
 }
 
+// A torus whose tube is 2.4 edge lengths around at K = 40: no lattice that coarse wraps around
+// the tube, and the torus was returned as it is (1536 vertices). Later runs now refine the
+// lattice until it keeps the input's topology, and the warning says why K was missed.
+TEST(PipelineRemesh, RefinesALatticeTooCoarseForTheTopology) {
+  const TriMesh torus = makeTorus(1.0, 0.15, 96, 16);
+  RemeshOptions options;
+  options.targetVertices = 40;
+  const RemeshResult result = remesh(toPolygonSoup(torus), options);
+  EXPECT_EQ(result.remesh.report.componentsKept, 0);
+  EXPECT_TRUE(result.metrics.topologyMatchesReference.value_or(false));
+  EXPECT_EQ(result.metrics.topology.genus(), 1);
+  const auto vertices = static_cast<long long>(result.remesh.triangles.n_vertices());
+  EXPECT_GT(vertices, 44);
+  EXPECT_LT(vertices, 2 * 40 * 2);  // a few refinements of h, not a copy of the input
+  ASSERT_FALSE(result.warnings.empty());
+  EXPECT_NE(result.warnings.back().find("did not keep the input's topology"), std::string::npos)
+      << result.warnings.back();
+}
+
 TEST(PipelineRemesh, TargetVertexCountIsMetWithinTenPercent) {
   const PolygonSoup sphere = toPolygonSoup(makeIcosphere(4));
   for (const long long target : {300LL, 1500LL}) {
