@@ -107,12 +107,11 @@ void repairLocally(const Problem& p, Iterate& solution, Parameterization& result
 // Stops after 3 re-solves without fewer flipped triangles: what remains is not a stiffness issue.
 // A later re-solve can fold a triangle that an earlier one had unfolded, so the best iterate
 // (fewest flipped, then fewest degenerate triangles; the later one on ties) is the result.
-void stiffen(const Problem& p, int maxIterations, Eigen::VectorXd& faceWeight, Iterate& solution,
+void stiffen(const Problem& p, int maxIterations, Eigen::VectorXd& faceWeight, Iterate& it,
              Parameterization& result, const RunContext& context) {
   const int integerCount = p.unknowns.integerCount;
-  int best = solution.orientation.flipped + solution.orientation.degenerate, sinceBest = 0;
-  Iterate bestIterate = solution;
-  Iterate& it = solution;
+  int best = it.orientation.flipped + it.orientation.degenerate, sinceBest = 0;
+  Iterate bestIterate = it;
   while ((it.orientation.flipped > 0 || it.orientation.degenerate > 0) &&
          result.stiffeningIterations < maxIterations && sinceBest < 3) {
     context.throwIfCanceled();
@@ -144,7 +143,7 @@ void stiffen(const Problem& p, int maxIterations, Eigen::VectorXd& faceWeight, I
     best = std::min(best, remaining);
     if (!param_detail::fewerFaults(bestIterate.orientation, it.orientation)) bestIterate = it;
   }
-  solution = std::move(bestIterate);
+  it = std::move(bestIterate);
 }
 
 // The result's corner coordinates, transitions and singularities from the solution.
