@@ -1,5 +1,6 @@
 #include "core/param/cut_mesh.h"
 
+#include <cmath>
 #include <functional>
 #include <map>
 
