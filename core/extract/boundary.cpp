@@ -482,7 +482,7 @@ long long collapseBoundarySlivers(TriMesh& mesh, double belowDegrees, double str
   constexpr int kPasses = 3;
   const auto point = [&](OpenMesh::VertexHandle v) { return toEigen(mesh.point(v)); };
   const auto smallestAngle = [&](OpenMesh::SmartFaceHandle f) {
-    return angleRange(facePositions(mesh, f, {}, {}))[0];
+    return angleRange(facePositions(mesh, f, OpenMesh::VertexHandle(), Eigen::Vector3d::Zero()))[0];
   };
   // A boundary vertex may move only along a boundary that runs straight through it.
   const auto onStraightBoundary = [&](OpenMesh::SmartVertexHandle v) {

@@ -77,9 +77,9 @@ inline std::array<Eigen::Vector3d, 3> facePositions(const TriMesh& mesh,
 /// Smallest and largest angle of v's triangles with v at p; {0, 180} when a triangle turns by
 /// more than 60° (or degenerates). Triangles that also have the corner `vanishing` (valid when v
 /// collapses onto that neighbour, p its position) are left out: the collapse removes them.
-inline std::array<double, 2> fanAngleRange(const TriMesh& mesh, OpenMesh::SmartVertexHandle v,
-                                           const Eigen::Vector3d& p,
-                                           OpenMesh::VertexHandle vanishing = {}) {
+inline std::array<double, 2> fanAngleRange(
+    const TriMesh& mesh, OpenMesh::SmartVertexHandle v, const Eigen::Vector3d& p,
+    OpenMesh::VertexHandle vanishing = OpenMesh::VertexHandle()) {
   std::array<double, 2> range{180.0, 0.0};
   for (const auto f : v.faces()) {
     if (vanishing.is_valid() &&

@@ -140,9 +140,10 @@ class SurfaceFit {
                  fanDeviation(v, p) < deviation;
         };
         std::optional<Vec3> moveTo;
+        const int hint = assignedInputFace(v);
         for (const double fraction : kSnapFractions) {
           const Vec3 partWay = position(v) + fraction * (target - position(v));
-          const Vec3 p = fraction == 1.0 ? target : inputQuery_.closest(partWay).point;
+          const Vec3 p = fraction == 1.0 ? target : inputQuery_.closest(partWay, hint).point;
           if (acceptable(p)) {
             moveTo = p;
             break;
@@ -179,8 +180,9 @@ class SurfaceFit {
           std::max(fanDeviation(v, current), kSmoothingDeviation * vertexEdgeLength(v));
       double best = fanAngleBadness(remesh_, v, current);
       Vec3 bestPosition = current;
+      const int hint = assignedInputFace(v);
       for (const Vec3& trial : trialPositions(v)) {
-        const Vec3 candidate = inputQuery_.closest(trial).point;
+        const Vec3 candidate = inputQuery_.closest(trial, hint).point;
         const double badness = fanAngleBadness(remesh_, v, candidate);
         if (badness < best && fanDeviation(v, candidate) <= allowed) {
           best = badness;
@@ -311,20 +313,22 @@ class SurfaceFit {
   /// fan with v at from + t·direction; returns t and that deviation.
   std::pair<double, double> searchLine(SVH v, const Vec3& from, const Vec3& direction,
                                        double reach) const {
-    const auto at = [&](double t) {
-      return fanDeviation(v, from + t * direction, kBalanceDivisions);
+    // A new point's deviation is only compared with the kept point's, so its measure may stop
+    // once it exceeds that: the point then loses and its value is never read again.
+    const auto at = [&](double t, double stopAbove) {
+      return fanDeviation(v, from + t * direction, kBalanceDivisions, stopAbove);
     };
     const double ratio = (std::sqrt(5.0) - 1.0) / 2.0;
     double lo = -reach, hi = reach;
     double x1 = hi - ratio * (hi - lo), x2 = lo + ratio * (hi - lo);
-    double f1 = at(x1), f2 = at(x2);
+    double f1 = at(x1, std::numeric_limits<double>::infinity()), f2 = at(x2, f1);
     for (int step = 0; step < kBalanceSearchSteps; ++step) {
       if (f1 < f2) {
         hi = x2, x2 = x1, f2 = f1;
-        x1 = hi - ratio * (hi - lo), f1 = at(x1);
+        x1 = hi - ratio * (hi - lo), f1 = at(x1, f2);
       } else {
         lo = x1, x1 = x2, f1 = f2;
-        x2 = lo + ratio * (hi - lo), f2 = at(x2);
+        x2 = lo + ratio * (hi - lo), f2 = at(x2, f1);
       }
     }
     return f1 < f2 ? std::pair{x1, f1} : std::pair{x2, f2};
@@ -413,8 +417,9 @@ class SurfaceFit {
              noWorse(creaseDeviationAt, p, creaseLimit, creaseDeviationBefore);
     };
     double step = kRelaxFirstStep * length;
+    const int hint = assignedInputFace(v);
     for (int k = 0; k < kRelaxSteps; ++k, step *= 0.5) {
-      const Vec3 candidate = inputQuery_.closest(current + step * direction).point;
+      const Vec3 candidate = inputQuery_.closest(current + step * direction, hint).point;
       if (!(fanAngleVariance(v, candidate) < variance)) continue;
       if (fanAngleBadness(remesh_, v, candidate) > badness) return std::nullopt;
       if (withinBounds(candidate)) return candidate;
@@ -510,6 +515,15 @@ class SurfaceFit {
     return deviation;
   }
 
+  /// An input face whose centroid's closest remesh triangle is one of v's, or −1.
+  int assignedInputFace(SVH v) const {
+    for (const auto f : v.faces())
+      for (const int i : facePoints_[f.idx()])
+        if (static_cast<std::size_t>(i) >= featurePointCount_)
+          return i - static_cast<int>(featurePointCount_);
+    return -1;
+  }
+
   bool isCreasePoint(int i) const {
     return static_cast<std::size_t>(i) < featurePointCount_ && creasePoint_[i];
   }
@@ -530,15 +544,16 @@ class SurfaceFit {
   /// Local deviation between v's fan (v at p) and the input (see surface_fit.h). With
   /// `divisions` > 1 the fan's triangles are sampled on a barycentric grid of that many
   /// divisions instead of at their centroids and v's edge midpoints. Stops early with a value
-  /// above `stopAbove` once the deviation exceeds it (divisions = 1).
+  /// above `stopAbove` once the deviation exceeds it.
   double fanDeviation(SVH v, const Vec3& p, int divisions = 1,
                       double stopAbove = std::numeric_limits<double>::infinity()) const {
     const std::vector<std::array<Vec3, 3>> fan = fanTriangles(v, p);
     double deviation = assignedPointDeviation(v, fan, false, stopAbove);
     if (deviation > stopAbove) return deviation;
     // The moving parts of the fan: v, its triangles' centroids and the midpoints of v's edges.
-    // Queries start from the input face nearest p, which makes them short.
-    const auto self = inputQuery_.closest(p);
+    // Queries start from the input face nearest p, which makes them short; that one's from an
+    // input face whose centroid is assigned to the fan (the result does not depend on it).
+    const auto self = inputQuery_.closest(p, assignedInputFace(v));
     const int hint = self.face;
     deviation = std::max(deviation, self.distance);
     if (divisions > 1) {
@@ -551,6 +566,7 @@ class SurfaceFit {
             if (weightAtV == 0) continue;  // on the edge opposite v: does not move
             const Vec3 q = (i * t[0] + j * t[1] + k * t[2]) / divisions;
             deviation = std::max(deviation, inputQuery_.closest(q, hint).distance);
+            if (deviation > stopAbove) return deviation;
           }
       return deviation;
     }

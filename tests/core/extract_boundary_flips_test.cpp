@@ -55,8 +55,8 @@ TEST(BoundaryFlips, FlipBoundarySliversBelowTheFloorOnly) {
   const auto rhombusMesh = [](double halfWidth) {
     TriMesh mesh;
     std::vector<TriMesh::VertexHandle> v;
-    for (const Eigen::Vector3d p : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, -halfWidth, 0),
-                                    Eigen::Vector3d(2, 0, 0), Eigen::Vector3d(1, halfWidth, 0)})
+    for (const Eigen::Vector3d& p : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, -halfWidth, 0),
+                                     Eigen::Vector3d(2, 0, 0), Eigen::Vector3d(1, halfWidth, 0)})
       v.push_back(mesh.add_vertex(toOpenMesh(p)));
     mesh.add_face(v[0], v[1], v[2]);
     mesh.add_face(v[0], v[2], v[3]);
