@@ -224,4 +224,70 @@ ClusteringResult clusterSingularities(const TriMesh& mesh, const EdgeGraph& grap
   return result;
 }
 
+ClusteringResult splitHighOrderNodes(const TriMesh& mesh, const EdgeGraph& graph,
+                                     const std::vector<ClusterNode>& nodes,
+                                     const std::vector<double>& angleDefect,
+                                     const std::vector<bool>& blocked, int n, int maxIndex,
+                                     double dSing) {
+  ClusteringResult result;
+  std::vector<char> taken(graph.vertices(), 0);
+  for (const auto& node : nodes) taken[node.vertex] = 1;
+  const auto position = [&](int v) { return toEigen(mesh.point(OpenMesh::VertexHandle(v))); };
+  GeodesicBall ball(graph);
+  for (const auto& node : nodes) {
+    const int v = node.vertex, sign = node.index > 0 ? 1 : -1;
+    // The part of I that v's angle defect carries: round(N K_v / 2π) if of I's sign, ≤ |I|.
+    const long carried = std::lround(n * angleDefect[v] / (2.0 * M_PI)) * sign;
+    const int keep = sign * static_cast<int>(std::clamp<long>(carried, 0, std::abs(node.index)));
+    const int count = std::abs(node.index - keep);
+    const int step = node.index - keep > 0 ? 1 : -1;
+    if (maxIndex <= 0 || std::abs(node.index) <= maxIndex || count == 0) {
+      result.nodes.push_back(node);
+      continue;
+    }
+    // ρ: half the distance to the nearest obstacle (the ball settles vertices by distance).
+    const std::vector<int>& reached = ball.grow(v, dSing);
+    double obstacle = dSing;
+    for (const int w : reached)
+      if (w != v && (blocked[w] || taken[w])) {
+        obstacle = ball.distance(w);
+        break;
+      }
+    const double rho = 0.5 * obstacle;
+    std::vector<int> ring;
+    for (const int w : reached)
+      if (!blocked[w] && !taken[w] && std::abs(ball.distance(w) - rho) <= 0.5 * rho)
+        ring.push_back(w);
+    if (static_cast<int>(ring.size()) < count) {
+      result.nodes.push_back(node);
+      continue;
+    }
+    // Farthest-point sampling from the ring vertex nearest the radius ρ.
+    std::vector<int> picked{*std::min_element(ring.begin(), ring.end(), [&](int a, int b) {
+      return std::abs(ball.distance(a) - rho) < std::abs(ball.distance(b) - rho);
+    })};
+    std::vector<double> gap(ring.size(), std::numeric_limits<double>::infinity());
+    while (static_cast<int>(picked.size()) < count) {
+      std::size_t farthest = 0;
+      for (std::size_t k = 0; k < ring.size(); ++k) {
+        gap[k] = std::min(gap[k], (position(ring[k]) - position(picked.back())).norm());
+        if (gap[k] > gap[farthest]) farthest = k;
+      }
+      picked.push_back(ring[farthest]);
+    }
+    if (keep != 0) result.nodes.push_back({v, keep});
+    result.collapsedVertices.push_back(v);
+    for (const int w : picked) {
+      result.nodes.push_back({w, step});
+      result.collapsedVertices.push_back(w);
+      taken[w] = 1;
+    }
+    ++result.collapses;
+  }
+  std::sort(result.nodes.begin(), result.nodes.end(),
+            [](const ClusterNode& a, const ClusterNode& b) { return a.vertex < b.vertex; });
+  std::sort(result.collapsedVertices.begin(), result.collapsedVertices.end());
+  return result;
+}
+
 }  // namespace hexcover::field

@@ -68,4 +68,23 @@ ClusteringResult clusterSingularities(const TriMesh& mesh, const EdgeGraph& grap
                                       int maxIndex, const std::vector<bool>& settled = {},
                                       int threads = 1);
 
+/// Splits the nodes whose index the lattice cannot take (paper section 3.3 read backwards: a
+/// singularity of index I/N is I first-order ones merged). The smoothest field concentrates
+/// symmetric curvature in one zero of high order: on a flat disk whose rim it follows (the cap of
+/// a cylinder, a washer) a single +N/N at the centre, which no triangle fan can realize. A node
+/// with |I| > maxIndex (maxIndex ≥ 1) keeps the part that its vertex's angle defect K_v carries,
+/// I_keep = round(N K_v / 2π) when its sign is I's, at most |I| (a cone apex of 199° keeps 3/6, a
+/// cube corner 2/6), and the rest becomes |I − I_keep| nodes of index ±1 on vertices at graph
+/// distance ρ ± ρ/2 from it, spread by farthest-point sampling, where ρ is half the distance to
+/// the nearest obstacle (a vertex of `blocked`, e.g. boundary and crease vertices, or another
+/// node) and at most dSing / 2. A node whose ring has too few free vertices stays whole (the
+/// remesh pipeline then refines the input and computes the field again).
+/// Returns every node (sorted by vertex) and, in collapsedVertices, the split nodes' vertices and
+/// their rings (the region to re-solve); collapses counts the nodes split.
+ClusteringResult splitHighOrderNodes(const TriMesh& mesh, const EdgeGraph& graph,
+                                     const std::vector<ClusterNode>& nodes,
+                                     const std::vector<double>& angleDefect,
+                                     const std::vector<bool>& blocked, int n, int maxIndex,
+                                     double dSing);
+
 }  // namespace hexcover::field

@@ -375,6 +375,32 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
                                         state.matchingShift);
     });
   }
+  // Interior singularities of a higher index than the lattice takes that clustering left (the
+  // smoothest field's zero of order N at the centre of a flat cap) are split into first-order
+  // ones around their vertex, away from boundaries and creases, and the field is re-solved there
+  // as after a clustering.
+  if (options.maxMergedIndex > 0) {
+    const field::ClusteringResult split = timed(timings, "split_singularities", [&] {
+      std::vector<field::ClusterNode> nodes;
+      for (const auto& s : result.singularities)
+        if (!s.onBoundary) nodes.push_back({s.vertex, s.index});
+      std::vector<bool> blocked(mesh.n_vertices(), false);
+      for (const auto vh : mesh.vertices()) blocked[vh.idx()] = mesh.is_boundary(vh);
+      for (const auto eh : mesh.edges())
+        if (!sharp.empty() && sharp[eh.idx()])
+          blocked[eh.v0().idx()] = blocked[eh.v1().idx()] = true;
+      return field::splitHighOrderNodes(mesh, *graph, nodes, geometry.angleDefect, blocked, n,
+                                        options.maxMergedIndex, dSing);
+    });
+    if (split.collapses > 0) {
+      timed(timings, "split_solve",
+            [&] { resolveRegion(mesh, geometry, inputs, split, dSing, n, state); });
+      result = timed(timings, "split_singularities", [&] {
+        return field::rosyFieldFromAngles(mesh, geometry, anglesOf(state.u, n), n,
+                                          state.matchingShift);
+      });
+    }
+  }
   result.singularitiesInitial = initialCount;
   if (std::find(sharp.begin(), sharp.end(), true) != sharp.end()) result.sharpEdges = sharp;
   result.singularityDistance = dSing;

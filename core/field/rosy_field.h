@@ -125,7 +125,11 @@ struct FieldOptions {
 /// (Ray et al.), singularity extraction, clustering with d_sing and the re-solve in the region R
 /// around the collapsed singularities (K̄ zero except 2πI/N at the remaining ones), repeated on the
 /// result (R = the newly collapsed ones) while each round collapses fewer pairs than the one before
-/// (at most 6 rounds). Interior singularities then end up at least d_sing apart (graph-geodesic
+/// (at most 6 rounds); then, with maxMergedIndex > 0, interior singularities of a higher |I| that
+/// their vertex's angle defect does not carry (the smoothest field's +N/N at the centre of a flat
+/// cap whose rim it follows) are split into first-order ones around it and the field re-solved
+/// there the same way (core/field/clustering.h, splitHighOrderNodes). Interior singularities
+/// then end up at least d_sing apart (graph-geodesic
 /// distance along edges) except pairs whose merge maxMergedIndex forbids; boundary vertices keep
 /// the indices of the boundary rule and are not clustered. At needle-like vertices (angle defect
 /// far from a multiple of 2π/N, e.g. 109° at a valence-4 vertex of feline) the corrected connection
@@ -139,7 +143,8 @@ struct FieldOptions {
 /// after every solve (std::logic_error on failure: a bug). Timings: geometry, connection,
 /// filter_gauss_curvature, initial_solve (its terms), curvature, constraints (see
 /// FieldOptions::threads for what runs concurrently), initial_solve, initial_singularities, then
-/// per clustering round clustering, cluster_solve, cluster_singularities. Throws
+/// per clustering round clustering, cluster_solve, cluster_singularities, then
+/// split_singularities (and split_solve when a singularity was split). Throws
 /// Error(InvalidOption) for invalid options, Error(InvalidMesh) for a mesh without faces,
 /// Error(NumericalFailure) if a factorization fails, Error(Canceled) when `context` asks.
 RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options = {},

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <utility>
+#include <vector>
 
 namespace hexcover {
 namespace {
@@ -163,6 +164,27 @@ TriMesh makeBox(double sx, double sy, double sz, int divisions) {
           }
         }
     }
+  }
+  return mesh;
+}
+
+TriMesh makeCappedCylinder(double radius, double height, int around) {
+  TriMesh mesh;
+  std::vector<VH> bottom, top;
+  for (int i = 0; i < around; ++i) {
+    const double angle = 2.0 * M_PI * i / around;
+    const double x = radius * std::cos(angle), y = radius * std::sin(angle);
+    bottom.push_back(mesh.add_vertex(point(x, y, 0.0)));
+    top.push_back(mesh.add_vertex(point(x, y, height)));
+  }
+  const VH bottomCentre = mesh.add_vertex(point(0.0, 0.0, 0.0));
+  const VH topCentre = mesh.add_vertex(point(0.0, 0.0, height));
+  for (int i = 0; i < around; ++i) {
+    const int j = (i + 1) % around;
+    mesh.add_face(bottom[i], bottom[j], top[j]);
+    mesh.add_face(bottom[i], top[j], top[i]);
+    mesh.add_face(bottomCentre, bottom[j], bottom[i]);
+    mesh.add_face(topCentre, top[i], top[j]);
   }
   return mesh;
 }

@@ -29,4 +29,10 @@ TriMesh makeEquilateralGrid(int columns, int rows, double edge = 1.0);
 /// meeting at 8 corners (a CAD-like shape with known creases). χ = 2.
 TriMesh makeBox(double sx, double sy, double sz, int divisions);
 
+/// Closed cylinder of the given radius and height along z, tessellated as CAD exporters do: two
+/// rims of `around` vertices, each side quad of the full height split into two triangles, each
+/// cap a fan of `around` slivers around its centre vertex. 2·around + 2 vertices; the rims are
+/// creases of 90°. χ = 2.
+TriMesh makeCappedCylinder(double radius, double height, int around);
+
 }  // namespace hexcover

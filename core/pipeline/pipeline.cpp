@@ -1,5 +1,6 @@
 #include "core/pipeline/pipeline.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <iomanip>
@@ -10,6 +11,7 @@
 
 #include "core/common/memory.h"
 #include "core/geometry/curvature.h"
+#include "core/mesh/refine.h"
 #include "core/mesh/repair.h"
 #include "core/mesh/topology.h"
 #include "core/param/hexcover.h"
@@ -114,34 +116,46 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
     repairOptions.maxFaces = options.maxFaces;
     repaired = repairMesh(input, repairOptions);
   }
-  const TriMesh& mesh = repaired.mesh;
   result.inputReport = repaired.report;
   context.report("repair", 1.0);
   context.throwIfCanceled();
 
-  // Sizing and the edge length h (a target of a quarter of the input's vertices by default).
-  // Curvature sizing is smoothed over kSizingSmoothingInEdges uniform edge lengths.
+  // A target of a quarter of the input's vertices by default, and h of a uniform lattice for it.
+  const long long inputVertices = usedVertexCount(repaired.mesh);
   const long long target =
-      options.targetVertices.value_or(std::max<long long>(4, usedVertexCount(mesh) / 4));
-  std::vector<double> sizing;
-  if (options.sizing == Sizing::Curvature) {
-    ScopedTimer timer(result.timings, "sizing");
-    const Curvature curvature = computeCurvature(mesh);
-    std::vector<double> absMax(curvature.kappaMax.size());
-    for (std::size_t v = 0; v < absMax.size(); ++v) absMax[v] = std::abs(curvature.kappaMax[v]);
-    const double uniform = options.edgeLength
-                               ? *options.edgeLength
-                               : edgeLengthForVertexCount(mesh, static_cast<int>(target), 6);
-    sizing = smoothSizing(mesh, curvatureSizing(absMax), kSizingSmoothingInEdges * uniform);
-  }
-  double h = options.edgeLength ? *options.edgeLength
-                                : edgeLengthForVertexCount(mesh, static_cast<int>(target), 6, sizing);
-  result.singularityDistance = options.dSing.value_or(kSingularityDistanceInEdges * h);
+      options.targetVertices.value_or(std::max<long long>(4, inputVertices / 4));
+  const double uniform = options.edgeLength
+                             ? *options.edgeLength
+                             : edgeLengthForVertexCount(repaired.mesh, static_cast<int>(target), 6);
+  const TriMesh& mesh = repaired.mesh;
+  // Splits the input's edges longer than `longest` uniform edge lengths: the same surface,
+  // sampled finely enough for the field's singularities and the lattice's detail.
+  const auto refine = [&](double longest) {
+    const auto start = Clock::now();
+    const long long splits = splitLongEdges(repaired.mesh, longest * uniform);
+    addTiming(result.timings, "refinement", secondsSince(start));
+    result.inputEdgesSplit += splits;
+    return splits > 0;
+  };
 
-  // 2. Field.
+  // 2. Sizing (curvature sizing is smoothed over kSizingSmoothingInEdges uniform edge lengths),
+  // h and the field, on the input as refined.
+  std::vector<double> sizing;
+  double h = 0.0;
   RosyField field;
-  {
-    ScopedTimer timer(result.timings, "field");
+  const auto computeField = [&] {
+    auto start = Clock::now();
+    if (options.sizing == Sizing::Curvature) {
+      const Curvature curvature = computeCurvature(mesh);
+      std::vector<double> absMax(curvature.kappaMax.size());
+      for (std::size_t v = 0; v < absMax.size(); ++v) absMax[v] = std::abs(curvature.kappaMax[v]);
+      sizing = smoothSizing(mesh, curvatureSizing(absMax), kSizingSmoothingInEdges * uniform);
+      addTiming(result.timings, "sizing", secondsSince(start));
+    }
+    h = options.edgeLength ? *options.edgeLength
+                           : edgeLengthForVertexCount(mesh, static_cast<int>(target), 6, sizing);
+    result.singularityDistance = options.dSing.value_or(kSingularityDistanceInEdges * h);
+    start = Clock::now();
     FieldOptions fieldOptions = parameterizationFieldOptions(
         options.rosy, h, result.singularityDistance, options.featureAngle);
     if (const std::string problem = fieldOptions.validate(); !problem.empty())
@@ -149,7 +163,18 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
     // d_sing = 0 means "no clustering" to the caller; the field reads 0 as "use the default".
     fieldOptions.clusterSingularities = result.singularityDistance > 0.0;
     field = computeRosyField(mesh, fieldOptions, context);
-  }
+    addTiming(result.timings, "field", secondsSince(start));
+  };
+  // Edges beyond kInputEdgeInEdgeLengths are split first. An interior singularity of a higher
+  // index than the lattice takes, which the field could not split for want of vertices around
+  // it, gets the input refined to kCoarseInputEdgeInEdgeLengths and the field again.
+  refine(kInputEdgeInEdgeLengths);
+  computeField();
+  const bool unsplit =
+      std::any_of(field.singularities.begin(), field.singularities.end(), [](const Singularity& s) {
+        return !s.onBoundary && std::abs(s.index) > kMergedIndexForLattice;
+      });
+  if (unsplit && refine(kCoarseInputEdgeInEdgeLengths)) computeField();
   result.singularities = field.singularities;
   context.throwIfCanceled();
 
@@ -184,7 +209,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   };
   std::optional<Run> best;
   int topologyMisses = 0;
-  const bool mayRefine = !options.edgeLength && 2 * target < usedVertexCount(mesh);
+  const bool mayRefine = !options.edgeLength && 2 * target < inputVertices;
   for (int run = 1;; ++run) {
     auto start = Clock::now();
     ParamOptions paramOptions;

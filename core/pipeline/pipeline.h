@@ -51,17 +51,30 @@ struct RemeshOptions {
   void validate() const;
 };
 
+/// Before the field, the repaired input's edges are split until none is longer than this many
+/// uniform edge lengths h (splitLongEdges). Scanned meshes are finer: the clean test meshes'
+/// longest edges are 0.6-3.0 h at a quarter of their vertices, and none is split.
+inline constexpr double kInputEdgeInEdgeLengths = 4.0;
+/// When the field keeps an interior singularity of an index above kMergedIndexForLattice, the
+/// input is refined to edges of at most this many h and the field computed again. The centres of
+/// a CAD cylinder's caps (fans of slivers) carry the smoothest field's +6/6, which the field can
+/// split only onto vertices around them (splitHighOrderNodes in core/field/clustering.h).
+inline constexpr double kCoarseInputEdgeInEdgeLengths = 1.0;
+
 struct RemeshResult {
   MeshReport inputReport;      ///< validation and repair of the input
+  /// Edges of the repaired input split before the field (kInputEdgeInEdgeLengths).
+  long long inputEdgesSplit = 0;
   double edgeLength = 0.0;           ///< h used for the final parameterization (model units)
   double singularityDistance = 0.0;  ///< d_sing used by the field's clustering (model units)
   int sizeIterations = 1;  ///< parameterization + extraction runs (to meet targetVertices and
                            ///< to keep the input's topology)
   int flippedParamTriangles = 0;  ///< left in the final parameterization (see Parameterization)
   Remesh remesh;               ///< triangle mesh, hexagonal dual, extraction report
-  PolygonSoup textured;        ///< the repaired input with per-corner texture coordinates
+  PolygonSoup textured;        ///< the repaired (and refined) input with texture coordinates
   std::vector<Singularity> singularities;
-  QualityReport metrics;       ///< the remesh measured against the repaired input
+  QualityReport metrics;       ///< the remesh measured against the repaired input (the
+                               ///< refined input is the same surface)
   Timings timings;             ///< per stage
   double peakMemoryMiB = 0.0;
   /// What a user may want to act on, one sentence each: input components copied unchanged,

@@ -1,8 +1,9 @@
-// The pieces of the clustering re-solve: matchings read relative to a corrected connection, and
-// the merge rule of clusterSingularities.
+// The pieces of the clustering re-solve: matchings read relative to a corrected connection, the
+// merge rule of clusterSingularities and the split of high-order singularities.
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -70,6 +71,59 @@ TEST(FieldClustering, MergesThatLowerTheLargerIndexAreAllowedAndPairsAboveTheLim
   EXPECT_EQ(apart.collapses, 0);
   EXPECT_EQ(apart.forbiddenPairs, 1);
   EXPECT_EQ(apart.nodes.size(), 2u);
+}
+
+// A flat patch whose centre carries +6/6 (the smoothest field's zero at the centre of a cap): six
+// +1/6 around it, about half-way to the boundary; with an angle defect of 180° at the centre (3
+// units of 60°), the centre keeps +3/6 and three go around; +1/6 stays as it is.
+TEST(FieldClustering, SplitsAHighOrderNodeIntoFirstOrderOnesAroundIt) {
+  const TriMesh grid = makeEquilateralGrid(25, 25, 1.0);
+  const field::EdgeGraph graph(grid);
+  std::vector<bool> boundary(grid.n_vertices(), false);
+  for (const auto v : grid.vertices()) boundary[v.idx()] = grid.is_boundary(v);
+  const int centre = 12 * 25 + 12;
+  const std::vector<double> flat(grid.n_vertices(), 0.0);
+  const auto distance = [&](int a, int b) {
+    return (toEigen(grid.point(grid.vertex_handle(a))) - toEigen(grid.point(grid.vertex_handle(b))))
+        .norm();
+  };
+
+  const field::ClusteringResult six =
+      field::splitHighOrderNodes(grid, graph, {{centre, 6}}, flat, boundary, 6, 1, 100.0);
+  EXPECT_EQ(six.collapses, 1);
+  ASSERT_EQ(six.nodes.size(), 6u);
+  double closest = 1e9;
+  for (std::size_t i = 0; i < six.nodes.size(); ++i) {
+    EXPECT_EQ(six.nodes[i].index, 1);
+    EXPECT_FALSE(boundary[six.nodes[i].vertex]);
+    const double r = distance(six.nodes[i].vertex, centre);
+    EXPECT_GT(r, 2.0);  // the boundary is 10.4-12 away: ρ ≈ 5.2-6, ring ρ ± ρ/2
+    EXPECT_LT(r, 9.5);
+    for (std::size_t j = 0; j < i; ++j)
+      closest = std::min(closest, distance(six.nodes[i].vertex, six.nodes[j].vertex));
+  }
+  EXPECT_GT(closest, 3.0) << "farthest-point sampling spreads them around the centre";
+  EXPECT_TRUE(
+      std::binary_search(six.collapsedVertices.begin(), six.collapsedVertices.end(), centre));
+
+  std::vector<double> apex = flat;
+  apex[centre] = M_PI;  // 180°: three units of 60°
+  const field::ClusteringResult kept =
+      field::splitHighOrderNodes(grid, graph, {{centre, 6}}, apex, boundary, 6, 1, 100.0);
+  int atCentre = 0, around = 0;
+  for (const auto& node : kept.nodes) (node.vertex == centre ? atCentre : around) += node.index;
+  EXPECT_EQ(atCentre, 3);
+  EXPECT_EQ(around, 3);
+
+  const field::ClusteringResult first =
+      field::splitHighOrderNodes(grid, graph, {{centre, 1}}, flat, boundary, 6, 1, 100.0);
+  EXPECT_EQ(first.collapses, 0);
+  ASSERT_EQ(first.nodes.size(), 1u);
+  EXPECT_EQ(first.nodes[0].index, 1);
+  // No limit (maxIndex 0, the paper's clustering): nothing is split.
+  EXPECT_EQ(
+      field::splitHighOrderNodes(grid, graph, {{centre, 6}}, flat, boundary, 6, 0, 100.0).collapses,
+      0);
 }
 
 }  // namespace

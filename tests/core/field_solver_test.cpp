@@ -179,6 +179,59 @@ TEST(FieldSolver, CreaseConstraintsAlignTheFieldWithTheEdgesOfABox) {
   EXPECT_GT(meanCreaseMisalignmentDegrees(box, free, aligned.sharpEdges), 2.0 * withCreases);
 }
 
+/// `mesh` with every triangle split into four at its edges' midpoints, `levels` times.
+TriMesh midpointSubdivision(const TriMesh& mesh, int levels) {
+  TriMesh current = mesh;
+  for (int level = 0; level < levels; ++level) {
+    TriMesh next;
+    for (const auto v : current.vertices()) next.add_vertex(current.point(v));
+    std::vector<OpenMesh::VertexHandle> midpoint(current.n_edges());
+    for (const auto e : current.edges())
+      midpoint[e.idx()] = next.add_vertex(0.5 * (current.point(e.v0()) + current.point(e.v1())));
+    for (const auto f : current.faces()) {
+      std::array<OpenMesh::VertexHandle, 3> corner, middle;
+      int k = 0;
+      for (const auto h : f.halfedges()) {
+        corner[k] = OpenMesh::VertexHandle(h.from().idx());
+        middle[k++] = midpoint[h.edge().idx()];  // of the edge from corner k to corner k + 1
+      }
+      next.add_face(corner[0], middle[0], middle[2]);
+      next.add_face(corner[1], middle[1], middle[0]);
+      next.add_face(corner[2], middle[2], middle[1]);
+      next.add_face(middle[0], middle[1], middle[2]);
+    }
+    current = std::move(next);
+  }
+  return current;
+}
+
+// A CAD cylinder subdivided: the smoothest field that follows the rims puts +6/6 at the centre of
+// each cap's fan, which no triangle fan realizes (valence 0). With merges limited to first order
+// (the lattice's setting), each is split into six +1/6 on its cap; without a limit they stay.
+TEST(FieldSolver, SplitsTheSixSixthsAtTheCentresOfACylindersCaps) {
+  const TriMesh cylinder = midpointSubdivision(makeCappedCylinder(1.0, 2.0, 48), 3);
+  FieldOptions options;
+  options.sharpEdgeAngle = 70.0;
+  options.sharpLineLength = 0.5;
+  options.singularityDistance = 0.6;
+  options.clusterSingularities = false;
+  options.maxMergedIndex = 0;
+  const RosyField unlimited = computeRosyField(cylinder, options);
+  EXPECT_EQ(unlimited.singularities.size(), 2u);
+  for (const auto& s : unlimited.singularities) EXPECT_EQ(s.index, 6);
+
+  options.maxMergedIndex = 1;
+  const RosyField split = computeRosyField(cylinder, options);
+  EXPECT_EQ(indexSum(split), 2 * 6);
+  int onCaps = 0;
+  for (const auto& s : split.singularities) {
+    EXPECT_EQ(s.index, 1) << "vertex " << s.vertex;
+    const double z = cylinder.point(cylinder.vertex_handle(s.vertex))[2];
+    onCaps += (z == 0.0 || z == 2.0) ? 1 : 0;
+  }
+  EXPECT_EQ(onCaps, 12);
+}
+
 TEST(FieldSolver, SliversValenceThreeVerticesAndBoundariesGiveFiniteOutput) {
   // A tube whose faces are split 1-to-3 at points 1e-9 from one of their edges: every split
   // adds a valence-3 vertex and a sliver.

@@ -284,6 +284,32 @@ TEST(PipelineRemesh, RefinesALatticeTooCoarseForTheTopology) {
       << result.warnings.back();
 }
 
+// A cylinder as CAD exporters write it (caps as fans of slivers, sides as full-height strips):
+// the input is refined to the lattice's scale, the field's +6/6 at the caps' centres is split
+// into first-order singularities, and the remesh has an irregular vertex at each of them and
+// nowhere else. Before, the cylinder came back as its input, with fold-overs reported.
+TEST(PipelineRemesh, RemeshesACadCylinderWhoseCapsAreFansOfSlivers) {
+  const PolygonSoup cylinder = toPolygonSoup(makeCappedCylinder(1.0, 2.0, 48));
+  for (const long long target : {300LL, 1500LL}) {
+    RemeshOptions options;
+    options.targetVertices = target;
+    const RemeshResult result = remesh(cylinder, options);
+    const std::string label = "K = " + std::to_string(target);
+    EXPECT_GT(result.inputEdgesSplit, 0) << label;
+    EXPECT_EQ(result.remesh.report.componentsKept, 0) << label;
+    EXPECT_TRUE(result.metrics.topologyMatchesReference.value_or(false)) << label;
+    EXPECT_NEAR(static_cast<double>(result.remesh.triangles.n_vertices()), target, 0.1 * target)
+        << label;
+    for (const auto& s : result.singularities) EXPECT_EQ(std::abs(s.index), 1) << label;
+    EXPECT_EQ(result.metrics.irregularInterior, static_cast<int>(result.singularities.size()))
+        << label;
+    EXPECT_EQ(test::irregularAwayFromSingularities(result, 0.5 * result.edgeLength), 0) << label;
+    EXPECT_GE(result.metrics.angleMin, 30.0) << label;
+    EXPECT_LE(result.metrics.angleMax, 110.0) << label;
+    EXPECT_LT(result.metrics.distance->hausdorffPct, 1.0) << label;
+  }
+}
+
 TEST(PipelineRemesh, TargetVertexCountIsMetWithinTenPercent) {
   const PolygonSoup sphere = toPolygonSoup(makeIcosphere(4));
   for (const long long target : {300LL, 1500LL}) {
