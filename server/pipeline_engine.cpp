@@ -128,6 +128,7 @@ JobOutcome PipelineEngine::run(const JobInput& input, const RunContext& context)
   metrics["edge_length"] = result.edgeLength;
   metrics["singularity_distance"] = result.singularityDistance;
   metrics["size_iterations"] = result.sizeIterations;
+  metrics["input_edges_split"] = result.inputEdgesSplit;
   metrics["warnings"] = result.warnings;
   metrics["peak_memory_mib"] = result.peakMemoryMiB;
   outcome.metrics = std::move(metrics);

@@ -74,6 +74,7 @@ nlohmann::json metricsDocument(const RemeshResult& result) {
   json["peak_memory_mb"] = result.peakMemoryMiB;
   json["edge_length"] = result.edgeLength;
   json["singularity_distance"] = result.singularityDistance;
+  json["input_edges_split"] = result.inputEdgesSplit;
   json["warnings"] = result.warnings;
   const ExtractionReport& r = result.remesh.report;
   json["extraction"] = {{"lattice_points", r.latticePoints},
