@@ -165,16 +165,21 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
     field = computeRosyField(mesh, fieldOptions, context);
     addTiming(result.timings, "field", secondsSince(start));
   };
-  // Edges beyond kInputEdgeInEdgeLengths are split first. An interior singularity of a higher
+  // Edges beyond kInputEdgeInEdgeLengths are split first. Interior singularities of a higher
   // index than the lattice takes, which the field could not split for want of vertices around
-  // it, gets the input refined to kCoarseInputEdgeInEdgeLengths and the field again.
+  // them, get the input refined to kCoarseInputEdgeInEdgeLengths and the field again, when the
+  // lattice has the room: kLatticeVerticesPerSplitSingularity vertices for each first-order
+  // singularity they would become (a cube of 8 vertices at K = 2 stays as it is).
   refine(kInputEdgeInEdgeLengths);
   computeField();
-  const bool unsplit =
-      std::any_of(field.singularities.begin(), field.singularities.end(), [](const Singularity& s) {
-        return !s.onBoundary && std::abs(s.index) > kMergedIndexForLattice;
-      });
-  if (unsplit && refine(kCoarseInputEdgeInEdgeLengths)) computeField();
+  int unsplit = 0;
+  for (const auto& s : field.singularities)
+    if (!s.onBoundary && std::abs(s.index) > kMergedIndexForLattice) unsplit += std::abs(s.index);
+  // The lattice's vertex count at the uniform h: (h₁ / h)², h₁ the edge length of one vertex.
+  const double latticeVertices = std::pow(edgeLengthForVertexCount(mesh, 1, 6) / uniform, 2);
+  if (unsplit > 0 && latticeVertices >= kLatticeVerticesPerSplitSingularity * unsplit &&
+      refine(kCoarseInputEdgeInEdgeLengths))
+    computeField();
   result.singularities = field.singularities;
   context.throwIfCanceled();
 

@@ -60,6 +60,9 @@ inline constexpr double kInputEdgeInEdgeLengths = 4.0;
 /// a CAD cylinder's caps (fans of slivers) carry the smoothest field's +6/6, which the field can
 /// split only onto vertices around them (splitHighOrderNodes in core/field/clustering.h).
 inline constexpr double kCoarseInputEdgeInEdgeLengths = 1.0;
+/// ... provided the lattice has this many vertices for each first-order singularity those would
+/// be split into (12 on a cylinder: from K = 48).
+inline constexpr double kLatticeVerticesPerSplitSingularity = 4.0;
 
 struct RemeshResult {
   MeshReport inputReport;      ///< validation and repair of the input
