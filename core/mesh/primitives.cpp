@@ -189,4 +189,32 @@ TriMesh makeCappedCylinder(double radius, double height, int around) {
   return mesh;
 }
 
+TriMesh makeUvSphere(double radius, int longitudes, int latitudes) {
+  TriMesh mesh;
+  const VH north = mesh.add_vertex(point(0.0, 0.0, radius));
+  std::vector<std::vector<VH>> rings;
+  for (int j = 1; j < latitudes; ++j) {
+    const double theta = M_PI * j / latitudes;
+    std::vector<VH> ring;
+    for (int i = 0; i < longitudes; ++i) {
+      const double phi = 2.0 * M_PI * i / longitudes;
+      ring.push_back(mesh.add_vertex(point(radius * std::sin(theta) * std::cos(phi),
+                                           radius * std::sin(theta) * std::sin(phi),
+                                           radius * std::cos(theta))));
+    }
+    rings.push_back(std::move(ring));
+  }
+  const VH south = mesh.add_vertex(point(0.0, 0.0, -radius));
+  for (int i = 0; i < longitudes; ++i) {
+    const int k = (i + 1) % longitudes;
+    mesh.add_face(north, rings.front()[i], rings.front()[k]);
+    mesh.add_face(south, rings.back()[k], rings.back()[i]);
+    for (std::size_t j = 0; j + 1 < rings.size(); ++j) {
+      mesh.add_face(rings[j][i], rings[j + 1][i], rings[j + 1][k]);
+      mesh.add_face(rings[j][i], rings[j + 1][k], rings[j][k]);
+    }
+  }
+  return mesh;
+}
+
 }  // namespace hexcover

@@ -35,4 +35,9 @@ TriMesh makeBox(double sx, double sy, double sz, int divisions);
 /// creases of 90°. χ = 2.
 TriMesh makeCappedCylinder(double radius, double height, int around);
 
+/// Latitude-longitude sphere of the given radius: `longitudes` vertices per ring, `latitudes`
+/// bands from pole to pole, each pole a vertex of valence `longitudes` with a fan of slivers
+/// (graphics and CAD exporters write spheres so). χ = 2.
+TriMesh makeUvSphere(double radius, int longitudes, int latitudes);
+
 }  // namespace hexcover

@@ -310,6 +310,25 @@ TEST(PipelineRemesh, RemeshesACadCylinderWhoseCapsAreFansOfSlivers) {
   }
 }
 
+// A latitude-longitude sphere: its poles are fans of 32 slivers where the smoothest field put
+// +6/6 (valence 0 for the lattice), and the sphere came back as its input with fold-overs
+// reported. Now the field splits them, and the remesh has the icosphere's 12 valence-5 vertices.
+TEST(PipelineRemesh, RemeshesALatitudeLongitudeSphere) {
+  const PolygonSoup sphere = toPolygonSoup(makeUvSphere(1.0, 32, 16));
+  RemeshOptions options;
+  options.targetVertices = 300;
+  const RemeshResult result = remesh(sphere, options);
+  EXPECT_EQ(result.remesh.report.componentsKept, 0);
+  EXPECT_TRUE(result.metrics.topologyMatchesReference.value_or(false));
+  EXPECT_NEAR(static_cast<double>(result.remesh.triangles.n_vertices()), 300.0, 30.0);
+  EXPECT_EQ(result.singularities.size(), 12u);
+  for (const auto& s : result.singularities) EXPECT_EQ(s.index, 1);
+  EXPECT_EQ(result.metrics.irregularInterior, 12);
+  EXPECT_GE(result.metrics.angleMin, 40.0);
+  EXPECT_LE(result.metrics.angleMax, 90.0);
+  EXPECT_LT(result.metrics.distance->hausdorffPct, 1.0);
+}
+
 TEST(PipelineRemesh, TargetVertexCountIsMetWithinTenPercent) {
   const PolygonSoup sphere = toPolygonSoup(makeIcosphere(4));
   for (const long long target : {300LL, 1500LL}) {
