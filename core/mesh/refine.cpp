@@ -11,7 +11,7 @@
 
 namespace hexcover {
 
-long long splitLongEdges(TriMesh& mesh, double maxLength) {
+long long splitLongEdges(TriMesh& mesh, double maxLength, std::size_t maxFaces) {
   if (!(std::isfinite(maxLength) && maxLength > 0.0))
     throw Error(
         ErrorCode::InvalidOption,
@@ -28,7 +28,7 @@ long long splitLongEdges(TriMesh& mesh, double maxLength) {
   };
   for (const auto e : mesh.edges()) push(e);
   long long splits = 0;
-  while (!queue.empty()) {
+  while (!queue.empty() && mesh.n_faces() + 2 <= maxFaces) {
     const auto [length, index] = queue.top();
     queue.pop();
     const OpenMesh::EdgeHandle e(index);

@@ -28,8 +28,9 @@ void RemeshOptions::validate() const {
     fail("edge length must be a positive finite number, got " + std::to_string(*edgeLength));
   if (targetVertices && *targetVertices < 4)
     fail("target vertex count must be at least 4, got " + std::to_string(*targetVertices));
-  if (targetVertices && *targetVertices > 100'000'000)
-    fail("target vertex count must be at most 100000000, got " + std::to_string(*targetVertices));
+  if (targetVertices && *targetVertices > kMaxTargetVertices)
+    fail("target vertex count must be at most " + std::to_string(kMaxTargetVertices) + ", got " +
+         std::to_string(*targetVertices));
   if (rosy == 4)
     fail("rosy 4 (quad remeshing) is not available yet: extraction builds triangles from the "
          "Eisenstein lattice (rosy 6)");
@@ -127,12 +128,23 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   const double uniform = options.edgeLength
                              ? *options.edgeLength
                              : edgeLengthForVertexCount(repaired.mesh, static_cast<int>(target), 6);
+  // The lattice's vertex count at the uniform h: (h₁ / h)², h₁ the edge length of one vertex.
+  const double latticeVertices =
+      std::pow(edgeLengthForVertexCount(repaired.mesh, 1, 6) / uniform, 2);
+  if (!(latticeVertices <= static_cast<double>(kMaxTargetVertices))) {
+    std::ostringstream message;
+    message << "edge length " << uniform << " would give about " << std::setprecision(3)
+            << latticeVertices << " vertices on this mesh, more than the " << kMaxTargetVertices
+            << " supported: give a larger edge length";
+    throw Error(ErrorCode::InvalidOption, message.str());
+  }
   const TriMesh& mesh = repaired.mesh;
   // Splits the input's edges longer than `longest` uniform edge lengths: the same surface,
-  // sampled finely enough for the field's singularities and the lattice's detail.
+  // sampled finely enough for the field's singularities and the lattice's detail (within the
+  // input's face limit).
   const auto refine = [&](double longest) {
     const auto start = Clock::now();
-    const long long splits = splitLongEdges(repaired.mesh, longest * uniform);
+    const long long splits = splitLongEdges(repaired.mesh, longest * uniform, options.maxFaces);
     addTiming(result.timings, "refinement", secondsSince(start));
     result.inputEdgesSplit += splits;
     return splits > 0;
@@ -175,8 +187,6 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   int unsplit = 0;
   for (const auto& s : field.singularities)
     if (!s.onBoundary && std::abs(s.index) > kMergedIndexForLattice) unsplit += std::abs(s.index);
-  // The lattice's vertex count at the uniform h: (h₁ / h)², h₁ the edge length of one vertex.
-  const double latticeVertices = std::pow(edgeLengthForVertexCount(mesh, 1, 6) / uniform, 2);
   if (unsplit > 0 && latticeVertices >= kLatticeVerticesPerSplitSingularity * unsplit &&
       refine(kCoarseInputEdgeInEdgeLengths))
     computeField();

@@ -27,6 +27,9 @@ enum class Sizing { Uniform, Curvature };
 /// keeps every vertex on the input (for attribute transfer, or a remesh that must interpolate).
 enum class VertexPlacement { Balanced, OnSurface };
 
+/// Largest vertex count a remesh may be asked for, as a target or through the edge length.
+inline constexpr long long kMaxTargetVertices = 100'000'000;
+
 struct RemeshOptions {
   /// Target edge length in model units. At most one of edgeLength and targetVertices is set;
   /// with neither, the target is a quarter of the input's vertex count.
@@ -44,7 +47,8 @@ struct RemeshOptions {
   /// Singularity clustering distance d_sing in model units; by default
   /// kSingularityDistanceInEdges × the edge length (paper 5.2, see pipeline.cpp).
   std::optional<double> dSing;
-  /// Inputs with more faces are refused (ErrorCode::LimitExceeded).
+  /// Inputs with more faces are refused (ErrorCode::LimitExceeded), and the refinement before the
+  /// field (kInputEdgeInEdgeLengths) stops there.
   std::size_t maxFaces = 5'000'000;
 
   /// Throws Error(InvalidOption) naming the first bad option.

@@ -66,6 +66,14 @@ TEST(MeshRefine, SplitsLongEdgesInsideTheOriginalTriangles) {
   EXPECT_TRUE(a.sameAs(b));
 }
 
+TEST(MeshRefine, StopsAtTheFaceLimit) {
+  TriMesh cylinder = makeCappedCylinder(1.0, 2.0, 16);
+  const std::size_t limit = cylinder.n_faces() + 40;
+  EXPECT_GT(splitLongEdges(cylinder, 0.01, limit), 0);
+  EXPECT_LE(cylinder.n_faces(), limit);
+  EXPECT_GE(cylinder.n_faces() + 2, limit);
+}
+
 TEST(MeshRefine, LeavesAMeshOfShortEdgesAsItIsAndRefusesABadLength) {
   TriMesh sphere = makeIcosphere(2);
   const std::size_t vertices = sphere.n_vertices();

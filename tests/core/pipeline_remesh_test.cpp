@@ -410,6 +410,25 @@ TEST(PipelineRemesh, ValidateNamesTheBadOption) {
   EXPECT_EQ(code(RemeshOptions{}), ErrorCode::Io);
 }
 
+// An edge length whose lattice would have more vertices than a target may ask for is refused
+// before anything is built (the refinement before the field would otherwise split the input's
+// edges toward it), with the count it would give.
+TEST(PipelineRemesh, RefusesAnEdgeLengthForMoreVerticesThanSupported) {
+  const PolygonSoup sphere = toPolygonSoup(makeIcosphere(1));
+  RemeshOptions options;
+  options.edgeLength = 1e-5;  // about 10^11 vertices on the unit sphere
+  try {
+    remesh(sphere, options);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::InvalidOption);
+    EXPECT_NE(std::string(e.what()).find("give a larger edge length"), std::string::npos)
+        << e.what();
+  }
+  options.edgeLength = 0.3;
+  EXPECT_GT(remesh(sphere, options).remesh.triangles.n_vertices(), 100u);
+}
+
 TEST(PipelineRemesh, RefusesAnEmptyMeshWithAnInputError) {
   try {
     remesh(PolygonSoup{}, {});
