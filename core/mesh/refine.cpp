@@ -1,5 +1,6 @@
 #include "core/mesh/refine.h"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <functional>
 #include <queue>
@@ -42,6 +43,48 @@ long long splitLongEdges(TriMesh& mesh, double maxLength, std::size_t maxFaces) 
     ++splits;
   }
   return splits;
+}
+
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+
+Vec3 position(const TriMesh& mesh, OpenMesh::VertexHandle v) { return toEigen(mesh.point(v)); }
+
+/// Angle at corner b of triangle (a, b, c).
+double angleAt(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 u = a - b, w = c - b;
+  return std::atan2(u.cross(w).norm(), u.dot(w));
+}
+
+}  // namespace
+
+long long flipFlatRegionsToDelaunay(TriMesh& mesh, int maxPasses) {
+  long long flips = 0;
+  for (int pass = 0; pass < maxPasses; ++pass) {
+    long long passFlips = 0;
+    for (const auto e : mesh.edges()) {
+      if (mesh.is_boundary(e) || !mesh.is_flip_ok(e)) continue;
+      // The edge (a, b) between triangles (a, b, c) and (b, a, d).
+      const auto h = mesh.halfedge_handle(e, 0), g = mesh.halfedge_handle(e, 1);
+      const Vec3 a = position(mesh, mesh.from_vertex_handle(h)),
+                 b = position(mesh, mesh.to_vertex_handle(h)),
+                 c = position(mesh, mesh.to_vertex_handle(mesh.next_halfedge_handle(h))),
+                 d = position(mesh, mesh.to_vertex_handle(mesh.next_halfedge_handle(g)));
+      const Vec3 n0 = (b - a).cross(c - a), n1 = (a - b).cross(d - b);
+      if (!(n0.norm() > 0.0 && n1.norm() > 0.0) ||
+          !(n0.normalized().dot(n1.normalized()) > kCoplanarCosine))
+        continue;
+      if (!(angleAt(a, c, b) + angleAt(b, d, a) > M_PI + 1e-12)) continue;
+      // The new triangles (a, d, c) and (d, b, c) must keep the orientation (a convex quad).
+      if (!((d - a).cross(c - a).dot(n0) > 0.0 && (b - d).cross(c - d).dot(n0) > 0.0)) continue;
+      mesh.flip(e);
+      ++passFlips;
+    }
+    flips += passFlips;
+    if (passFlips == 0) break;
+  }
+  return flips;
 }
 
 }  // namespace hexcover

@@ -19,4 +19,17 @@ namespace hexcover {
 long long splitLongEdges(TriMesh& mesh, double maxLength,
                          std::size_t maxFaces = std::numeric_limits<std::size_t>::max());
 
+/// Flips the interior edges between coplanar triangles (normals within kCoplanarCosine) that are
+/// not locally Delaunay (opposite angles summing to more than π), until none is left or
+/// maxPasses passes over the edges: on flat regions the same surface with better angles. CAD
+/// exporters triangulate a planar face with slivers (a plate's face fanned from a hole to its
+/// corners, angles below 0.1°), which midpoint splits keep; the flips improve them as far as the
+/// points allow (a plate with a hole at K = 2000: angle SD 14.5 -> 13.2°). Returns the number of
+/// flips.
+long long flipFlatRegionsToDelaunay(TriMesh& mesh, int maxPasses = 32);
+
+/// Normals whose dot product exceeds this are coplanar for flipFlatRegionsToDelaunay (an angle
+/// of 1.4·10⁻⁵ rad: a CAD model's planar faces, not a scan's nearly flat ones).
+inline constexpr double kCoplanarCosine = 1.0 - 1e-10;
+
 }  // namespace hexcover
