@@ -1,6 +1,7 @@
 #include "core/mesh/refine.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <queue>
@@ -85,6 +86,42 @@ long long flipFlatRegionsToDelaunay(TriMesh& mesh, int maxPasses) {
     if (passFlips == 0) break;
   }
   return flips;
+}
+
+long long relaxFlatRegions(TriMesh& mesh, int rounds) {
+  long long moves = 0;
+  for (int round = 0; round < rounds; ++round) {
+    for (const auto v : mesh.vertices()) {
+      if (mesh.is_boundary(v) || mesh.is_isolated(v)) continue;
+      const Vec3 p = position(mesh, v);
+      // The fan's triangles (p, w_k, w_k+1), coplanar with the first one's normal n.
+      Vec3 n = Vec3::Zero(), centroid = Vec3::Zero();
+      bool flat = true;
+      std::vector<std::pair<Vec3, Vec3>> rim;
+      for (const auto h : mesh.voh_range(v)) {
+        const Vec3 a = position(mesh, mesh.to_vertex_handle(h)),
+                   b = position(mesh, mesh.to_vertex_handle(mesh.next_halfedge_handle(h)));
+        const Vec3 normal = (a - p).cross(b - p);
+        if (!(normal.norm() > 0.0)) flat = false;
+        if (!flat) break;
+        if (n.isZero()) n = normal.normalized();
+        flat = n.dot(normal.normalized()) > kCoplanarCosine;
+        rim.emplace_back(a, b);
+        centroid += a;
+      }
+      if (!flat) continue;
+      centroid /= static_cast<double>(rim.size());
+      centroid -= (centroid - p).dot(n) * n;  // in the plane
+      if (std::all_of(rim.begin(), rim.end(), [&](const auto& edge) {
+            return (edge.first - centroid).cross(edge.second - centroid).dot(n) > 0.0;
+          })) {
+        mesh.set_point(v, toOpenMesh(centroid));
+        ++moves;
+      }
+    }
+    flipFlatRegionsToDelaunay(mesh);
+  }
+  return moves;
 }
 
 }  // namespace hexcover

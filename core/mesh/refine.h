@@ -28,6 +28,14 @@ long long splitLongEdges(TriMesh& mesh, double maxLength,
 /// flips.
 long long flipFlatRegionsToDelaunay(TriMesh& mesh, int maxPasses = 32);
 
+/// Relaxes the flat regions: `rounds` times, every vertex whose triangles are coplanar and which
+/// is not on the boundary moves to the centroid of its neighbours when that leaves all its
+/// triangles oriented as before (so they tile the same planar polygon), in index order, and the
+/// flat regions are then flipped to Delaunay. The points that splits crowd along a fan's spokes
+/// spread over the face; vertices on creases, boundaries and curved regions stay. Returns the
+/// number of moves.
+long long relaxFlatRegions(TriMesh& mesh, int rounds);
+
 /// Normals whose dot product exceeds this are coplanar for flipFlatRegionsToDelaunay (an angle
 /// of 1.4·10⁻⁵ rad: a CAD model's planar faces, not a scan's nearly flat ones).
 inline constexpr double kCoplanarCosine = 1.0 - 1e-10;

@@ -145,7 +145,10 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   const auto refine = [&](double longest) {
     const auto start = Clock::now();
     const long long splits = splitLongEdges(repaired.mesh, longest * uniform, options.maxFaces);
-    if (splits > 0) flipFlatRegionsToDelaunay(repaired.mesh);
+    if (splits > 0) {
+      flipFlatRegionsToDelaunay(repaired.mesh);
+      relaxFlatRegions(repaired.mesh, kFlatRelaxationRounds);
+    }
     addTiming(result.timings, "refinement", secondsSince(start));
     result.inputEdgesSplit += splits;
     return splits > 0;

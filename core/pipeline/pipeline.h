@@ -59,6 +59,8 @@ struct RemeshOptions {
 /// uniform edge lengths h (splitLongEdges). Scanned meshes are finer: the clean test meshes'
 /// longest edges are 0.6-3.0 h at a quarter of their vertices, and none is split.
 inline constexpr double kInputEdgeInEdgeLengths = 4.0;
+/// Rounds of relaxFlatRegions after a refinement that split edges.
+inline constexpr int kFlatRelaxationRounds = 5;
 /// When the field keeps an interior singularity of an index above kMergedIndexForLattice, the
 /// input is refined to edges of at most this many h and the field computed again. The centres of
 /// a CAD cylinder's caps (fans of slivers) carry the smoothest field's +6/6, which the field can

@@ -118,6 +118,30 @@ TEST(MeshRefine, FlipsFlatRegionsToDelaunayAndLeavesCurvedOnesAlone) {
   EXPECT_EQ(flipFlatRegionsToDelaunay(sphere), 0);
 }
 
+// Relaxing the flat region moves the points off the spokes: far fewer slivers, the same square,
+// its boundary vertices where they were.
+TEST(MeshRefine, RelaxingAFlatRegionSpreadsItsPointsAndKeepsItsBoundary) {
+  TriMesh refined = fannedSquare();
+  splitLongEdges(refined, 0.15);
+  flipFlatRegionsToDelaunay(refined);
+  const TriMesh before = refined;
+  const int slivers = trianglesWithAngleBelow(refined, 20.0);
+  EXPECT_GT(relaxFlatRegions(refined, 5), 0);
+  EXPECT_LT(trianglesWithAngleBelow(refined, 20.0), slivers / 4) << slivers << " before";
+  double area = 0.0;
+  for (const auto& t : trianglesOf(refined)) {
+    area += 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).norm();
+    for (const auto& p : t) EXPECT_EQ(p.z(), 0.0);
+    EXPECT_GT((t[1] - t[0]).cross(t[2] - t[0]).z(), 0.0) << "a move folded a triangle";
+  }
+  EXPECT_NEAR(area, 1.0, 1e-12);
+  for (const auto v : refined.vertices())
+    if (refined.is_boundary(v)) EXPECT_EQ(refined.point(v), before.point(v));
+
+  TriMesh sphere = makeIcosphere(2);
+  EXPECT_EQ(relaxFlatRegions(sphere, 3), 0);
+}
+
 TEST(MeshRefine, StopsAtTheFaceLimit) {
   TriMesh cylinder = makeCappedCylinder(1.0, 2.0, 16);
   const std::size_t limit = cylinder.n_faces() + 40;
