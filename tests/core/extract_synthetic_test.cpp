@@ -248,7 +248,9 @@ TEST(ExtractSynthetic, FollowedBoundaryLiesOnTheInputBoundaryAndKeepsTopology) {
   EXPECT_EQ(duplicateVertices(out, 1e-6), 0);
   EXPECT_TRUE(allFacesUp(out));
   for (const auto v : out.vertices())
-    if (out.is_boundary(v)) ASSERT_LT(distanceToBoundary(grid, toEigen(out.point(v))), 1e-9);
+    if (out.is_boundary(v)) {
+      ASSERT_LT(distanceToBoundary(grid, toEigen(out.point(v))), 1e-9);
+    }
   // The four corners of the patch (sharp boundary corners) are output vertices.
   for (const auto v : grid.vertices()) {
     if (grid.valence(v) > 3) continue;  // corners of the parallelogram have valence 2 or 3

@@ -431,7 +431,9 @@ TEST(FieldSolver, NeedleVerticesLeaveNoClustersOnFeline) {
   const RosyField field = computeRosyField(mesh, options);
   EXPECT_EQ(indexSum(field), 6 * field.eulerCharacteristic);
   for (const auto& s : field.singularities) {
-    if (!s.onBoundary) EXPECT_LE(std::abs(s.index), 1) << "vertex " << s.vertex;
+    if (!s.onBoundary) {
+      EXPECT_LE(std::abs(s.index), 1) << "vertex " << s.vertex;
+    }
   }
   EXPECT_EQ(closeMergeablePairs(mesh, field, kMergedIndexForLattice), 0);
 }

@@ -136,7 +136,9 @@ TEST(MeshRefine, RelaxingAFlatRegionSpreadsItsPointsAndKeepsItsBoundary) {
   }
   EXPECT_NEAR(area, 1.0, 1e-12);
   for (const auto v : refined.vertices())
-    if (refined.is_boundary(v)) EXPECT_EQ(refined.point(v), before.point(v));
+    if (refined.is_boundary(v)) {
+      EXPECT_EQ(refined.point(v), before.point(v));
+    }
 
   TriMesh sphere = makeIcosphere(2);
   EXPECT_EQ(relaxFlatRegions(sphere, 3), 0);

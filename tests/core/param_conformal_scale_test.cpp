@@ -86,7 +86,9 @@ TEST(ConformalScale, ClampsTheGrowthAndTheShrinkingOfLatticeUnitsSeparately) {
   EXPECT_DOUBLE_EQ(*lowest, std::exp(-0.1)) << "lattice units grow at most e^0.1";
   EXPECT_DOUBLE_EQ(*highest, std::exp(0.3)) << "and shrink at most e^0.3";
   for (std::size_t f = 0; f < free.size(); ++f)
-    if (free[f] > std::exp(-0.1) && free[f] < std::exp(0.3)) EXPECT_DOUBLE_EQ(clamped[f], free[f]);
+    if (free[f] > std::exp(-0.1) && free[f] < std::exp(0.3)) {
+      EXPECT_DOUBLE_EQ(clamped[f], free[f]);
+    }
 }
 
 // With the scale, the parallels field is (nearly) a gradient field: the local step's energy

@@ -218,7 +218,9 @@ void expectCutOpensToDisks(const TriMesh& mesh, const RosyField& field) {
       cutMeshEulerCharacteristic(mesh, cut.cutEdge, cut.faceComponent, cut.componentCount);
   for (int c = 0; c < cut.componentCount; ++c) EXPECT_EQ(chi[c], 1) << "component " << c;
   for (const auto eh : mesh.edges())
-    if (!cut.cutEdge[eh.idx()]) EXPECT_EQ(cut.combedMatching[eh.idx()], 0);
+    if (!cut.cutEdge[eh.idx()]) {
+      EXPECT_EQ(cut.combedMatching[eh.idx()], 0);
+    }
   for (const auto& s : field.singularities) {
     const auto vh = mesh.vertex_handle(s.vertex);
     if (mesh.is_boundary(vh)) continue;
@@ -383,7 +385,9 @@ TEST(HexCover, LatticeDescentOnlyLowersTheEnergy) {
     ASSERT_EQ(plain.flippedTriangles + descended.flippedTriangles, 0);
     ASSERT_EQ(plain.stiffeningIterations + descended.stiffeningIterations, 0);
     EXPECT_LE(descended.energy, plain.energy * (1 + 1e-9));
-    if (descended.latticeDescentMoves > 0) EXPECT_LT(descended.energy, plain.energy);
+    if (descended.latticeDescentMoves > 0) {
+      EXPECT_LT(descended.energy, plain.energy);
+    }
     expectSeamless(mesh, descended);
     expectSingularitiesOnLattice(mesh, field, descended);
     moves += descended.latticeDescentMoves;

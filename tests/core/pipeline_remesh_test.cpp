@@ -148,8 +148,8 @@ TEST(PipelineRemesh, KeepsEveryCornerOfASquarePlate) {
   options.edgeLength = 0.1;
   const RemeshResult result = remesh(plate, options);
   const TriMesh& out = result.remesh.triangles;
-  for (const Eigen::Vector3d corner : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0),
-                                       Eigen::Vector3d(1, 1, 0), Eigen::Vector3d(0, 1, 0)}) {
+  for (const Eigen::Vector3d& corner : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0),
+                                        Eigen::Vector3d(1, 1, 0), Eigen::Vector3d(0, 1, 0)}) {
     double nearest = 1e300;
     for (const auto v : out.vertices())
       nearest = std::min(nearest, (toEigen(out.point(v)) - corner).norm());

@@ -22,8 +22,9 @@ void expectProblem(const httplib::Result& res, int status, const std::string& me
   EXPECT_EQ(doc.at("status"), status);
   EXPECT_TRUE(doc.at("type").is_string());
   EXPECT_TRUE(doc.at("title").is_string());
-  if (!mention.empty())
+  if (!mention.empty()) {
     EXPECT_NE(doc.at("detail").get<std::string>().find(mention), std::string::npos) << doc.dump();
+  }
 }
 
 /// Sends raw bytes on a new connection and returns everything the server answers until it
