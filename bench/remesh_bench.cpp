@@ -1,9 +1,12 @@
 // bench_remesh: the whole pipeline on every clean/ mesh at two resolutions (K = V/4 and K = V).
 // Prints one machine-readable line per run ("remesh mesh=... K=... key=value ...") and a markdown
 // table: output size, each stage's median time over the runs, peak memory and the metrics.
-// Usage: bench_remesh [--runs N] [--only NAME] [--quarter-only] [--subdivide S]
+// Usage: bench_remesh [--runs N] [--only NAME] [--quarter-only] [--subdivide S] [--generated]
 // --subdivide S splits every triangle of the input 1-to-4 S times first (the 1M-face case:
-// --only stanford-bunny --subdivide 2 --quarter-only --runs 1, 1.1M faces).
+// --only stanford-bunny --subdivide 2 --quarter-only --runs 1, 1.1M faces). --generated remeshes
+// shapes tessellated as CAD exporters write them instead (core/mesh/primitives.h: a cylinder with
+// fans of slivers for caps, a latitude-longitude sphere, a box of 12 triangles) at K = 300 and
+// 3000. The "repair s" column includes the refinement before the field.
 // Never asserts on time.
 
 #include <algorithm>
@@ -20,6 +23,7 @@
 #include "core/common/error.h"
 #include "core/common/memory.h"
 #include "core/mesh/io.h"
+#include "core/mesh/primitives.h"
 #include "core/pipeline/pipeline.h"
 
 namespace {
@@ -43,6 +47,20 @@ struct Row {
 };
 
 const char* const kStages[] = {"repair", "field", "parameterization", "extraction", "metrics"};
+
+/// The input and the targets of one table row group.
+struct Input {
+  std::string name;
+  PolygonSoup soup;
+  std::vector<long long> targets;
+};
+
+/// Vertices of the soup that a face uses (unreferenced ones do not count).
+long long referencedVertices(const PolygonSoup& soup) {
+  std::vector<bool> used(soup.vertexCount(), false);
+  for (const auto v : soup.cornerVertices) used[v] = true;
+  return std::count(used.begin(), used.end(), true);
+}
 
 /// Splits every triangle 1-to-4 at its edge midpoints (shared midpoints, so the surface stays
 /// connected); faces with more corners are kept as they are.
@@ -80,7 +98,7 @@ int main(int argc, char** argv) {
   hexcover::keepFreedMemoryForReuse();  // as the command line and the server do
   int runs = 5;
   std::string only;
-  bool quarterOnly = false;
+  bool quarterOnly = false, generated = false;
   int subdivisions = 0;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--runs") && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
@@ -88,45 +106,60 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--quarter-only")) quarterOnly = true;
     else if (!std::strcmp(argv[i], "--subdivide") && i + 1 < argc)
       subdivisions = std::max(0, std::atoi(argv[++i]));
+    else if (!std::strcmp(argv[i], "--generated"))
+      generated = true;
     else {
-      std::cerr << "usage: bench_remesh [--runs N] [--only NAME] [--quarter-only] [--subdivide S]\n";
+      std::cerr << "usage: bench_remesh [--runs N] [--only NAME] [--quarter-only] [--subdivide S] "
+                   "[--generated]\n";
       return 2;
     }
   }
-  const std::filesystem::path dir = std::filesystem::path(HEXCOVER_SHARED_MESHES) / "clean";
-  if (!std::filesystem::is_directory(dir)) {
-    std::cerr << "bench_remesh: no meshes at " << dir << "\n";
-    return 1;
+  std::vector<Input> inputs;
+  if (generated) {
+    inputs.push_back({"cylinder, 64 sides", toPolygonSoup(makeCappedCylinder(1.0, 2.0, 64)), {}});
+    inputs.push_back(
+        {"latitude-longitude sphere 32x16", toPolygonSoup(makeUvSphere(1.0, 32, 16)), {}});
+    inputs.push_back({"box of 12 triangles", toPolygonSoup(makeBox(1.0, 0.8, 0.6, 1)), {}});
+    for (auto& input : inputs) input.targets = {300, 3000};
+  } else {
+    const std::filesystem::path dir = std::filesystem::path(HEXCOVER_SHARED_MESHES) / "clean";
+    if (!std::filesystem::is_directory(dir)) {
+      std::cerr << "bench_remesh: no meshes at " << dir << "\n";
+      return 1;
+    }
+    std::vector<std::filesystem::path> files;
+    for (const auto& entry : std::filesystem::directory_iterator(dir))
+      if (entry.is_regular_file() &&
+          (only.empty() || entry.path().filename().string().find(only) != std::string::npos))
+        files.push_back(entry.path());
+    std::sort(files.begin(), files.end());
+    for (const auto& file : files) {
+      Input input;
+      try {
+        input.soup = readMesh(file);
+        for (int k = 0; k < subdivisions; ++k) input.soup = subdivided(input.soup);
+      } catch (const Error& e) {
+        std::cerr << file << ": " << e.what() << "\n";
+        continue;
+      }
+      input.name = file.filename().string() +
+                   (subdivisions > 0 ? " (subdivided " + std::to_string(subdivisions) + "x, " +
+                                           std::to_string(input.soup.faceCount()) + " faces)"
+                                     : std::string());
+      const long long vertices = referencedVertices(input.soup);
+      input.targets = {vertices / 4};
+      if (!quarterOnly) input.targets.push_back(vertices);
+      inputs.push_back(std::move(input));
+    }
   }
-  std::vector<std::filesystem::path> files;
-  for (const auto& entry : std::filesystem::directory_iterator(dir))
-    if (entry.is_regular_file() && (only.empty() || entry.path().filename().string().find(only) != std::string::npos))
-      files.push_back(entry.path());
-  std::sort(files.begin(), files.end());
 
   std::vector<Row> rows;
-  for (const auto& file : files) {
-    PolygonSoup soup;
-    try {
-      soup = readMesh(file);
-      for (int k = 0; k < subdivisions; ++k) soup = subdivided(soup);
-    } catch (const Error& e) {
-      std::cerr << file << ": " << e.what() << "\n";
-      continue;
-    }
-    // V: referenced vertices of the input (unreferenced ones do not count).
-    std::vector<bool> used(soup.vertexCount(), false);
-    for (const auto v : soup.cornerVertices) used[v] = true;
-    const long long vertices = std::count(used.begin(), used.end(), true);
-    std::vector<long long> targets{vertices / 4};
-    if (!quarterOnly) targets.push_back(vertices);
-    for (const long long target : targets) {
+  for (const Input& input : inputs) {
+    const PolygonSoup& soup = input.soup;
+    for (const long long target : input.targets) {
       Row row;
-      row.mesh = file.filename().string() +
-                 (subdivisions > 0 ? " (subdivided " + std::to_string(subdivisions) + "x, " +
-                                         std::to_string(soup.faceCount()) + " faces)"
-                                   : std::string());
-      row.inputVertices = vertices;
+      row.mesh = input.name;
+      row.inputVertices = referencedVertices(soup);
       row.target = target;
       RemeshOptions options;
       options.targetVertices = target;
@@ -136,7 +169,8 @@ int main(int argc, char** argv) {
           for (const char* stage : kStages) {
             double seconds = 0.0;
             for (const auto& t : row.last.timings)
-              if (t.step == stage) seconds += t.seconds;
+              if (t.step == stage || (t.step == "refinement" && std::strcmp(stage, "repair") == 0))
+                seconds += t.seconds;
             row.stageSeconds[stage].push_back(seconds);
           }
           row.totalSeconds.push_back(totalSeconds(row.last.timings));
