@@ -1,5 +1,6 @@
 #pragma once
-// Refinement that keeps the surface: long edges split at their midpoints.
+// Refinement that keeps the surface: long edges split at their midpoints, flat regions flipped
+// to Delaunay and relaxed within their planes.
 
 #include <cstddef>
 #include <limits>
