@@ -141,9 +141,17 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   const TriMesh& mesh = repaired.mesh;
   // Splits the input's edges longer than `longest` uniform edge lengths: the same surface,
   // sampled finely enough for the field's singularities and the lattice's detail (within the
-  // input's face limit).
+  // input's face limit). The input as repaired is kept for the metrics (the same surface, with
+  // far fewer faces to sample and query when the refinement split many). The surface fit works
+  // on the refinement: its vertices and face centroids sample the input densely, and fitting to
+  // the unrefined input instead raised Hausdorff distances (a plate with a hole 0.82 -> 1.31%).
+  std::optional<TriMesh> unrefined;
   const auto refine = [&](double longest) {
     const auto start = Clock::now();
+    const bool longer = std::any_of(mesh.edges_begin(), mesh.edges_end(), [&](const auto e) {
+      return mesh.calc_edge_length(e) > longest * uniform;
+    });
+    if (longer && !unrefined) unrefined = repaired.mesh;
     const long long splits = splitLongEdges(repaired.mesh, longest * uniform, options.maxFaces);
     if (splits > 0) {
       flipFlatRegionsToDelaunay(repaired.mesh);
@@ -285,7 +293,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   context.report("metrics", 0.0);
   {
     ScopedTimer timer(result.timings, "metrics");
-    result.metrics = measureQuality(result.remesh.triangles, &mesh);
+    result.metrics = measureQuality(result.remesh.triangles, unrefined ? &*unrefined : &mesh);
   }
   context.report("metrics", 1.0);
   result.peakMemoryMiB = peakMemoryMiB();

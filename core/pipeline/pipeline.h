@@ -82,8 +82,8 @@ struct RemeshResult {
   Remesh remesh;               ///< triangle mesh, hexagonal dual, extraction report
   PolygonSoup textured;        ///< the repaired (and refined) input with texture coordinates
   std::vector<Singularity> singularities;
-  QualityReport metrics;       ///< the remesh measured against the repaired input (the
-                               ///< refined input is the same surface)
+  QualityReport metrics;       ///< the remesh measured against the repaired input (before
+                               ///< the refinement, the same surface)
   Timings timings;             ///< per stage
   double peakMemoryMiB = 0.0;
   /// What a user may want to act on, one sentence each: input components copied unchanged,
