@@ -94,6 +94,18 @@ TriMesh fannedSquare() {
   return mesh;
 }
 
+/// The refined unit square: every triangle in the z = 0 plane and counter-clockwise (nothing
+/// folded), and their areas add up to 1 (the same square).
+void expectTheUnitSquareUnfolded(const TriMesh& mesh) {
+  double total = 0.0;
+  for (const auto& t : trianglesOf(mesh)) {
+    total += area(t);
+    for (const auto& p : t) EXPECT_EQ(p.z(), 0.0);
+    EXPECT_GT((t[1] - t[0]).cross(t[2] - t[0]).z(), 0.0) << "a folded triangle";
+  }
+  EXPECT_NEAR(total, 1.0, 1e-12);
+}
+
 // Midpoint splits keep a planar face's slivers; Delaunay flips on the flat region improve its
 // angles with the same surface (590 -> 420 triangles with an angle below 20°: the splits' points
 // crowd along the fan's spokes, which flips cannot move), and leave a curved mesh alone.
@@ -105,13 +117,7 @@ TEST(MeshRefine, FlipsFlatRegionsToDelaunayAndLeavesCurvedOnesAlone) {
   EXPECT_GT(flipFlatRegionsToDelaunay(refined), 0);
   const int after = trianglesWithAngleBelow(refined, 20.0);
   EXPECT_LT(after, 0.8 * before) << before << " triangles with an angle below 20° before the flips";
-  double area = 0.0;
-  for (const auto& t : trianglesOf(refined)) {
-    area += 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).norm();
-    for (const auto& p : t) EXPECT_EQ(p.z(), 0.0);
-    EXPECT_GT((t[1] - t[0]).cross(t[2] - t[0]).z(), 0.0) << "a flip folded a triangle";
-  }
-  EXPECT_NEAR(area, 1.0, 1e-12);
+  expectTheUnitSquareUnfolded(refined);
   EXPECT_TRUE(computeTopology(original).sameAs(computeTopology(refined)));
 
   TriMesh sphere = makeIcosphere(2);
@@ -128,13 +134,7 @@ TEST(MeshRefine, RelaxingAFlatRegionSpreadsItsPointsAndKeepsItsBoundary) {
   const int slivers = trianglesWithAngleBelow(refined, 20.0);
   EXPECT_GT(relaxFlatRegions(refined, 5), 0);
   EXPECT_LT(trianglesWithAngleBelow(refined, 20.0), slivers / 4) << slivers << " before";
-  double area = 0.0;
-  for (const auto& t : trianglesOf(refined)) {
-    area += 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).norm();
-    for (const auto& p : t) EXPECT_EQ(p.z(), 0.0);
-    EXPECT_GT((t[1] - t[0]).cross(t[2] - t[0]).z(), 0.0) << "a move folded a triangle";
-  }
-  EXPECT_NEAR(area, 1.0, 1e-12);
+  expectTheUnitSquareUnfolded(refined);
   for (const auto v : refined.vertices())
     if (refined.is_boundary(v)) {
       EXPECT_EQ(refined.point(v), before.point(v));
