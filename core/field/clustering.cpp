@@ -235,13 +235,17 @@ ClusteringResult splitHighOrderNodes(const TriMesh& mesh, const EdgeGraph& graph
   const auto position = [&](int v) { return toEigen(mesh.point(OpenMesh::VertexHandle(v))); };
   GeodesicBall ball(graph);
   for (const auto& node : nodes) {
+    if (maxIndex <= 0 || std::abs(node.index) <= maxIndex) {
+      result.nodes.push_back(node);
+      continue;
+    }
     const int v = node.vertex, sign = node.index > 0 ? 1 : -1;
-    // The part of I that v's angle defect carries: round(N K_v / 2π) if of I's sign, ≤ |I|.
+    // The part of I that v's angle defect carries: round(N K_v / 2π) if of I's sign, ≤ |I|; the
+    // rest, `count` nodes of index `sign`, goes around v.
     const long carried = std::lround(n * angleDefect[v] / (2.0 * M_PI)) * sign;
     const int keep = sign * static_cast<int>(std::clamp<long>(carried, 0, std::abs(node.index)));
     const int count = std::abs(node.index - keep);
-    const int step = node.index - keep > 0 ? 1 : -1;
-    if (maxIndex <= 0 || std::abs(node.index) <= maxIndex || count == 0) {
+    if (count == 0) {
       result.nodes.push_back(node);
       continue;
     }
@@ -278,7 +282,7 @@ ClusteringResult splitHighOrderNodes(const TriMesh& mesh, const EdgeGraph& graph
     if (keep != 0) result.nodes.push_back({v, keep});
     result.collapsedVertices.push_back(v);
     for (const int w : picked) {
-      result.nodes.push_back({w, step});
+      result.nodes.push_back({w, sign});
       result.collapsedVertices.push_back(w);
       taken[w] = 1;
     }

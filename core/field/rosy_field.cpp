@@ -380,15 +380,16 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
   // ones around their vertex, away from boundaries and creases, and the field is re-solved there
   // as after a clustering.
   if (options.maxMergedIndex > 0) {
-    const field::ClusteringResult split = timed(timings, "split_singularities", [&] {
+    const field::ClusteringResult split = timed(timings, "split", [&] {
       std::vector<field::ClusterNode> nodes;
       for (const auto& s : result.singularities)
         if (!s.onBoundary) nodes.push_back({s.vertex, s.index});
+      // Boundary and crease vertices: no split-off singularity goes there.
       std::vector<bool> blocked(mesh.n_vertices(), false);
       for (const auto vh : mesh.vertices()) blocked[vh.idx()] = mesh.is_boundary(vh);
-      for (const auto eh : mesh.edges())
-        if (!sharp.empty() && sharp[eh.idx()])
-          blocked[eh.v0().idx()] = blocked[eh.v1().idx()] = true;
+      if (!sharp.empty())
+        for (const auto eh : mesh.edges())
+          if (sharp[eh.idx()]) blocked[eh.v0().idx()] = blocked[eh.v1().idx()] = true;
       return field::splitHighOrderNodes(mesh, *graph, nodes, geometry.angleDefect, blocked, n,
                                         options.maxMergedIndex, dSing);
     });

@@ -143,8 +143,8 @@ struct FieldOptions {
 /// after every solve (std::logic_error on failure: a bug). Timings: geometry, connection,
 /// filter_gauss_curvature, initial_solve (its terms), curvature, constraints (see
 /// FieldOptions::threads for what runs concurrently), initial_solve, initial_singularities, then
-/// per clustering round clustering, cluster_solve, cluster_singularities, then
-/// split_singularities (and split_solve when a singularity was split). Throws
+/// per clustering round clustering, cluster_solve, cluster_singularities, then split (and
+/// split_solve, split_singularities when a singularity was split). Throws
 /// Error(InvalidOption) for invalid options, Error(InvalidMesh) for a mesh without faces,
 /// Error(NumericalFailure) if a factorization fails, Error(Canceled) when `context` asks.
 RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options = {},

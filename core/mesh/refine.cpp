@@ -90,22 +90,22 @@ long long flipFlatRegionsToDelaunay(TriMesh& mesh, int maxPasses) {
 
 long long relaxFlatRegions(TriMesh& mesh, int rounds) {
   long long moves = 0;
+  std::vector<std::pair<Vec3, Vec3>> rim;  // the far edges (a, b) of v's triangles (v, a, b)
   for (int round = 0; round < rounds; ++round) {
     for (const auto v : mesh.vertices()) {
       if (mesh.is_boundary(v) || mesh.is_isolated(v)) continue;
       const Vec3 p = position(mesh, v);
-      // The fan's triangles (p, w_k, w_k+1), coplanar with the first one's normal n.
+      // Flat: every triangle non-degenerate and coplanar with the first one (normal n).
       Vec3 n = Vec3::Zero(), centroid = Vec3::Zero();
       bool flat = true;
-      std::vector<std::pair<Vec3, Vec3>> rim;
+      rim.clear();
       for (const auto h : mesh.voh_range(v)) {
         const Vec3 a = position(mesh, mesh.to_vertex_handle(h)),
                    b = position(mesh, mesh.to_vertex_handle(mesh.next_halfedge_handle(h)));
         const Vec3 normal = (a - p).cross(b - p);
-        if (!(normal.norm() > 0.0)) flat = false;
+        if (n.isZero() && normal.norm() > 0.0) n = normal.normalized();
+        flat = normal.norm() > 0.0 && n.dot(normal.normalized()) > kCoplanarCosine;
         if (!flat) break;
-        if (n.isZero()) n = normal.normalized();
-        flat = n.dot(normal.normalized()) > kCoplanarCosine;
         rim.emplace_back(a, b);
         centroid += a;
       }
