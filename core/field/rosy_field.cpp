@@ -315,6 +315,7 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
             fixBoundaryFaces(mesh, geometry, n, options.boundaryTangentReach, in);
           if (options.sharpEdgeAngle > 0.0) {
             sharp = sharpEdges(mesh, options.sharpEdgeAngle, options.sharpLineLength);
+            if (options.compatibleCreasesOnly) sharp = latticeCompatibleCreases(mesh, sharp, n);
             addSharpEdgeConstraints(mesh, geometry, n, sharp, options.sharpEdgeWeight, in);
           }
           return in;

@@ -106,6 +106,9 @@ struct FieldOptions {
   double sharpEdgeAngle = 0.0;
   double sharpLineLength = 0.0;
   double sharpEdgeWeight = 1.0;
+  /// Follow only the crease lines that a lattice of this symmetry can follow all at once
+  /// (latticeCompatibleCreases: of two lines meeting at 90°, the longer one for N = 6).
+  bool compatibleCreasesOnly = false;
   BoundaryAlignment boundary = BoundaryAlignment::Tangent;
   /// With Tangent: a boundary edge's tangent is the chord from the boundary vertex `reach` steps
   /// before it to the one `reach` steps after it (0: the edge itself). Smooths the zigzags of

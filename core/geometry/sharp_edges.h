@@ -18,4 +18,17 @@ std::vector<double> dihedralAngles(const TriMesh& mesh);
 /// are the folds of a noisy scan or of a spike, not features. minDihedralDegrees ≤ 0: none.
 std::vector<bool> sharpEdges(const TriMesh& mesh, double minDihedralDegrees, double minLineLength);
 
+/// Largest deviation, in degrees, of the angle between two crease lines at a shared corner from
+/// a multiple of the lattice angle 360°/N for them to count as compatible.
+inline constexpr double kCompatibleCornerTolerance = 15.0;
+
+/// The crease lines of `sharp` (#E) that a lattice of N-fold symmetry can follow all at once:
+/// lines meeting at a corner at an angle that is not a multiple of 360°/N (a box's 90° corners
+/// for N = 6) cannot both be lattice lines, and a field that follows both twists across the
+/// faces between them. Longest lines first, a line is kept when every kept line that ends at
+/// one of its corners meets it at a compatible angle; of a square's four sides, two opposite
+/// ones stay. Closed lines and lines meeting at compatible angles all stay.
+std::vector<bool> latticeCompatibleCreases(const TriMesh& mesh, const std::vector<bool>& sharp,
+                                           int n);
+
 }  // namespace hexcover

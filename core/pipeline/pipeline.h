@@ -76,8 +76,9 @@ struct RemeshResult {
   long long inputEdgesSplit = 0;
   double edgeLength = 0.0;           ///< h used for the final parameterization (model units)
   double singularityDistance = 0.0;  ///< d_sing used by the field's clustering (model units)
-  int sizeIterations = 1;  ///< parameterization + extraction runs (to meet targetVertices and
-                           ///< to keep the input's topology)
+  int sizeIterations = 1;  ///< parameterization + extraction runs (to meet targetVertices, to
+                           ///< keep the input's topology, and along a second field that follows
+                           ///< only the creases a lattice can follow together)
   int flippedParamTriangles = 0;  ///< left in the final parameterization (see Parameterization)
   Remesh remesh;               ///< triangle mesh, hexagonal dual, extraction report
   PolygonSoup textured;        ///< the repaired (and refined) input with texture coordinates

@@ -1,5 +1,5 @@
 // Sharp edges: the creases of a box are found as whole lines; smooth shapes and the folds around
-// a spike have none.
+// a spike have none. Which creases a lattice can follow together.
 
 #include <gtest/gtest.h>
 
@@ -53,6 +53,44 @@ TEST(GeometrySharpEdges, SmoothShapesAndTheFoldsOfASpikeHaveNone) {
   EXPECT_GT(count(anyLength), 0);
   const double edge = spiky.calc_edge_length(*spiky.edges_begin());
   EXPECT_EQ(count(sharpEdges(spiky, 60.0, 3.0 * edge)), 0);
+}
+
+// Of a box's creases, which meet at 90°, a hexagonal lattice can follow only parallel ones: the
+// four longest lines, all along x. A square lattice follows all twelve.
+TEST(GeometrySharpEdges, AHexagonalLatticeFollowsTheLongestParallelCreasesOfABox) {
+  constexpr int kDivisions = 10;
+  const TriMesh box = makeBox(1.0, 0.8, 0.6, kDivisions);
+  const std::vector<bool> sharp = sharpEdges(box, 60.0, 0.0);
+  const std::vector<bool> hexagonal = latticeCompatibleCreases(box, sharp, 6);
+  EXPECT_EQ(count(hexagonal), 4 * kDivisions);
+  for (const auto e : box.edges()) {
+    if (!hexagonal[e.idx()]) continue;
+    EXPECT_TRUE(sharp[e.idx()]);
+    const auto d = box.point(e.v1()) - box.point(e.v0());
+    EXPECT_NEAR(std::abs(d[0]), 1.0 / kDivisions, 1e-12) << "edge " << e.idx();
+  }
+  EXPECT_EQ(latticeCompatibleCreases(box, sharp, 4), sharp);
+}
+
+// A flat hexagonal prism: its rims turn by 120° at each corner, which a hexagonal lattice
+// follows, so all 12 rim lines stay; the six shorter vertical lines meet them at 90° and go.
+// The circular rims of a cylinder are closed lines, and stay.
+TEST(GeometrySharpEdges, CreasesMeetingAtMultiplesOfSixtyDegreesAndClosedOnesAllStay) {
+  const TriMesh prism = makeCappedCylinder(1.0, 0.5, 6);
+  const std::vector<bool> sharp = sharpEdges(prism, 30.0, 0.0);
+  const std::vector<bool> hexagonal = latticeCompatibleCreases(prism, sharp, 6);
+  int rim = 0;
+  for (const auto e : prism.edges()) {
+    if (!sharp[e.idx()]) continue;
+    const bool vertical = std::abs(prism.point(e.v1())[2] - prism.point(e.v0())[2]) > 1e-9;
+    EXPECT_EQ(hexagonal[e.idx()], !vertical) << "edge " << e.idx();
+    rim += vertical ? 0 : 1;
+  }
+  EXPECT_GE(rim, 12);
+  const TriMesh cylinder = makeCappedCylinder(1.0, 2.0, 64);
+  const std::vector<bool> rims = sharpEdges(cylinder, 30.0, 0.0);
+  EXPECT_GE(count(rims), 128);
+  EXPECT_EQ(latticeCompatibleCreases(cylinder, rims, 6), rims);
 }
 
 }  // namespace
