@@ -85,13 +85,10 @@ int runParam(int argc, char** argv) {
   const RosyField field = computeRosyField(mesh, fieldOptions);
   if (sizing == "curvature") {
     // Scale with the largest absolute principal curvature (paper Fig. 13).
-    const Curvature curvature = computeCurvature(mesh);
-    std::vector<double> absMax(curvature.kappaMax.size());
-    for (std::size_t v = 0; v < absMax.size(); ++v)
-      absMax[v] = std::max(std::abs(curvature.kappaMax[v]), std::abs(curvature.kappaMin[v]));
     // Smoothed over kSizingSmoothingInEdges uniform lattice units, as the pipeline does.
     options.vertexSizing =
-        smoothSizing(mesh, curvatureSizing(absMax), kSizingSmoothingInEdges * uniform);
+        smoothSizing(mesh, curvatureSizing(computeCurvature(mesh).largestAbsolute()),
+                     kSizingSmoothingInEdges * uniform);
   }
   const Parameterization parameterization = computeParameterization(mesh, field, options);
   writeMesh(texturedSoup(mesh, parameterization), *output);

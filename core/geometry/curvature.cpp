@@ -151,6 +151,13 @@ Eigen::Matrix3d Curvature::tensor(int v) const {
          kappaMin[v] * directionMin[v] * directionMin[v].transpose();
 }
 
+std::vector<double> Curvature::largestAbsolute() const {
+  std::vector<double> largest(kappaMax.size());
+  for (std::size_t v = 0; v < largest.size(); ++v)
+    largest[v] = std::max(std::abs(kappaMax[v]), std::abs(kappaMin[v]));
+  return largest;
+}
+
 Curvature computeCurvature(const TriMesh& mesh, const CurvatureOptions& options) {
   if (const auto problem = options.validate(); !problem.empty())
     throw Error(ErrorCode::InvalidOption, "curvature options: " + problem);

@@ -54,6 +54,9 @@ struct Curvature {
 
   /// The curvature tensor of vertex v as a symmetric 3×3 matrix κ1 d1 d1ᵀ + κ2 d2 d2ᵀ.
   Eigen::Matrix3d tensor(int v) const;
+  /// #V: the largest absolute principal curvature max(|κ1|, |κ2|) (|κ2| where the surface is
+  /// concave), the curvature that curvature-adaptive sizing follows (paper Fig. 13).
+  std::vector<double> largestAbsolute() const;
 };
 
 /// Curvature of every vertex (section 3.2). Throws Error(InvalidOption) for invalid options.

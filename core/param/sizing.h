@@ -15,8 +15,9 @@ namespace hexcover {
 double edgeLengthForVertexCount(const TriMesh& mesh, int targetVertices, int n,
                                 const std::vector<double>& vertexSizing = {});
 
-/// Curvature-adaptive sizing (paper Fig. 13): s_v = |κ_max(v)| / median |κ_max|, clamped to
-/// [minScale, maxScale]; a lattice unit near v is h / s_v. `absMaxCurvature` is #V, ≥ 0.
+/// Curvature-adaptive sizing (paper Fig. 13): s_v = κ(v) / median κ, clamped to
+/// [minScale, maxScale]; a lattice unit near v is h / s_v. `absMaxCurvature` is #V, ≥ 0: the
+/// largest absolute principal curvature κ = max(|κ1|, |κ2|) (Curvature::largestAbsolute).
 /// Throws Error(InvalidOption) for an empty input or a range with minScale ≤ 0 or > maxScale.
 std::vector<double> curvatureSizing(const std::vector<double>& absMaxCurvature,
                                     double minScale = 0.5, double maxScale = 2.0);

@@ -172,10 +172,8 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   const auto computeField = [&] {
     auto start = Clock::now();
     if (options.sizing == Sizing::Curvature) {
-      const Curvature curvature = computeCurvature(mesh);
-      std::vector<double> absMax(curvature.kappaMax.size());
-      for (std::size_t v = 0; v < absMax.size(); ++v) absMax[v] = std::abs(curvature.kappaMax[v]);
-      sizing = smoothSizing(mesh, curvatureSizing(absMax), kSizingSmoothingInEdges * uniform);
+      sizing = smoothSizing(mesh, curvatureSizing(computeCurvature(mesh).largestAbsolute()),
+                            kSizingSmoothingInEdges * uniform);
       addTiming(result.timings, "sizing", secondsSince(start));
     }
     h = options.edgeLength ? *options.edgeLength

@@ -310,6 +310,54 @@ TEST(PipelineRemesh, RemeshesACadCylinderWhoseCapsAreFansOfSlivers) {
   }
 }
 
+// Mean length of the edges of `mesh` whose midpoints have x below (or at least) `split`.
+std::array<double, 2> meanEdgeLengthsAroundX(const TriMesh& mesh, double split) {
+  std::array<double, 2> total{}, count{};
+  for (const auto e : mesh.edges()) {
+    const int side = mesh.point(e.v0())[0] + mesh.point(e.v1())[0] < 2.0 * split ? 0 : 1;
+    total[side] += mesh.calc_edge_length(e);
+    count[side] += 1.0;
+  }
+  return {total[0] / count[0], total[1] / count[1]};
+}
+
+// Curvature-adaptive sizing follows the largest absolute principal curvature (paper Fig. 13): a
+// tube of radius 1/4 (κ = 4 around it) gets edges half as long as a tube of radius 1 beside it
+// (the sizing's range is [1/2, 2] of the median), and so it does when the thin tube's faces
+// are turned the other way (open surfaces keep their orientation), where its curvature around
+// is −4 and the larger signed principal curvature is 0. Uniform sizing gives both the same.
+TEST(PipelineRemesh, CurvatureSizingHalvesTheEdgesOfAThinTubeFacingEitherWay) {
+  const TriMesh thick = makeTube(1.0, 4.0, 96, 72);
+  const TriMesh thin = makeTube(0.25, 4.0, 48, 140);
+  const auto twoTubes = [&](bool thinTurned) {
+    PolygonSoup soup = toPolygonSoup(thick);
+    const auto offset = static_cast<int>(soup.positions.size());
+    for (const auto v : thin.vertices())
+      soup.positions.push_back(toEigen(thin.point(v)) + Eigen::Vector3d(3.0, 0.0, 0.0));
+    for (const auto f : thin.faces()) {
+      std::vector<int> corners;
+      for (const auto v : f.vertices()) corners.push_back(offset + v.idx());
+      if (thinTurned) std::reverse(corners.begin(), corners.end());
+      soup.addFace(corners);
+    }
+    return soup;
+  };
+  for (const bool thinTurned : {false, true}) {
+    RemeshOptions options;
+    options.targetVertices = 3000;
+    options.sizing = Sizing::Curvature;
+    const RemeshResult result = remesh(twoTubes(thinTurned), options);
+    EXPECT_EQ(result.remesh.report.componentsKept, 0);
+    const auto [thickEdge, thinEdge] = meanEdgeLengthsAroundX(result.remesh.triangles, 2.0);
+    EXPECT_NEAR(thinEdge / thickEdge, 0.5, 0.1) << (thinTurned ? "turned" : "as made");
+  }
+  RemeshOptions uniform;
+  uniform.targetVertices = 3000;
+  const RemeshResult result = remesh(twoTubes(false), uniform);
+  const auto [thickEdge, thinEdge] = meanEdgeLengthsAroundX(result.remesh.triangles, 2.0);
+  EXPECT_NEAR(thinEdge / thickEdge, 1.0, 0.1);
+}
+
 // A cube's creases meet at 90°, which no hexagonal lattice follows at once: a field that
 // follows all twelve twists across every face. The remesh of the field that follows only the
 // four parallel ones is kept when its triangles are closer to equilateral and its Hausdorff
