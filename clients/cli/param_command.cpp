@@ -19,9 +19,11 @@
 #include "core/geometry/curvature.h"
 #include "core/mesh/io.h"
 #include "core/mesh/load.h"
+#include "core/mesh/refine.h"
 #include "core/param/hexcover.h"
 #include "core/param/sizing.h"
 #include "core/param/texture.h"
+#include "core/pipeline/pipeline.h"
 
 namespace hexcover::cli {
 
@@ -66,7 +68,7 @@ int runParam(int argc, char** argv) {
     throw UsageError("--sizing must be uniform or curvature, got '" + sizing + "'");
 
   const auto start = std::chrono::steady_clock::now();
-  const TriMesh mesh = loadMesh(path);
+  TriMesh mesh = loadMesh(path);
   // The uniform lattice unit requested (before the conformal correction of the parameterization).
   const double uniform =
       options.edgeLength > 0.0
@@ -79,10 +81,20 @@ int runParam(int argc, char** argv) {
   // d_sing follows the edge length as in the remesh pipeline (paper 3.3: for remeshing it "can be
   // selected based on the edge length of the output mesh"): singularities closer than a few
   // lattice units would be rounded onto one lattice point (its Fig. 15). --d-sing 0.1·B gives the
-  // paper's figures. Creases as in the remesh pipeline.
+  // paper's figures. Creases, and the refinement of an input coarser than the lattice, as in the
+  // remesh pipeline.
   const FieldOptions fieldOptions = parameterizationFieldOptions(
       n, uniform, dSing.value_or(kSingularityDistanceInEdges * uniform), featureAngle);
-  const RosyField field = computeRosyField(mesh, fieldOptions);
+  const double latticeVertices = latticeVertexCount(mesh, uniform);
+  const std::size_t maxFaces = RepairOptions{}.maxFaces;  // the limit loadMesh applied
+  long long edgesSplit = refineLongEdges(mesh, kInputEdgeInEdgeLengths * uniform, maxFaces);
+  RosyField field = computeRosyField(mesh, fieldOptions);
+  if (needsFinerInputForLattice(field, latticeVertices)) {
+    const long long finer =
+        refineLongEdges(mesh, kCoarseInputEdgeInEdgeLengths * uniform, maxFaces);
+    edgesSplit += finer;
+    if (finer > 0) field = computeRosyField(mesh, fieldOptions);
+  }
   if (sizing == "curvature") {
     // Scale with the largest absolute principal curvature (paper Fig. 13).
     // Smoothed over kSizingSmoothingInEdges uniform lattice units, as the pipeline does.
@@ -101,6 +113,7 @@ int runParam(int argc, char** argv) {
   json["rounding"] = roundingMethodName(options.rounding);
   json["sizing"] = sizing;
   json["singularity_distance"] = fieldOptions.singularityDistance;
+  json["input_edges_split"] = edgesSplit;
   json["field_seconds"] = field.seconds;
   json["total_seconds"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -124,4 +124,13 @@ long long relaxFlatRegions(TriMesh& mesh, int rounds) {
   return moves;
 }
 
+long long refineLongEdges(TriMesh& mesh, double maxLength, std::size_t maxFaces) {
+  const long long splits = splitLongEdges(mesh, maxLength, maxFaces);
+  if (splits > 0) {
+    flipFlatRegionsToDelaunay(mesh);
+    relaxFlatRegions(mesh, kFlatRelaxationRounds);
+  }
+  return splits;
+}
+
 }  // namespace hexcover

@@ -37,6 +37,15 @@ long long flipFlatRegionsToDelaunay(TriMesh& mesh, int maxPasses = 32);
 /// number of moves.
 long long relaxFlatRegions(TriMesh& mesh, int rounds);
 
+/// Rounds of relaxFlatRegions in refineLongEdges.
+inline constexpr int kFlatRelaxationRounds = 5;
+
+/// splitLongEdges, and when it split an edge, flipFlatRegionsToDelaunay and
+/// relaxFlatRegions(kFlatRelaxationRounds): the same surface, sampled at most maxLength apart
+/// (within maxFaces), with the slivers of planar faces opened up. Returns the number of splits.
+long long refineLongEdges(TriMesh& mesh, double maxLength,
+                          std::size_t maxFaces = std::numeric_limits<std::size_t>::max());
+
 /// Normals whose dot product exceeds this are coplanar for flipFlatRegionsToDelaunay (an angle
 /// of 1.4·10⁻⁵ rad: a CAD model's planar faces, not a scan's nearly flat ones).
 inline constexpr double kCoplanarCosine = 1.0 - 1e-10;

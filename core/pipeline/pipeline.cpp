@@ -104,6 +104,18 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
+double latticeVertexCount(const TriMesh& mesh, double h) {
+  // (h₁ / h)², h₁ the edge length of a lattice of one vertex.
+  return std::pow(edgeLengthForVertexCount(mesh, 1, 6) / h, 2);
+}
+
+bool needsFinerInputForLattice(const RosyField& field, double latticeVertices) {
+  int unsplit = 0;
+  for (const auto& s : field.singularities)
+    if (!s.onBoundary && std::abs(s.index) > kMergedIndexForLattice) unsplit += std::abs(s.index);
+  return unsplit > 0 && latticeVertices >= kLatticeVerticesPerSplitSingularity * unsplit;
+}
+
 RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
                     const RunContext& context) {
   options.validate();
@@ -130,9 +142,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   const double uniform = options.edgeLength
                              ? *options.edgeLength
                              : edgeLengthForVertexCount(repaired.mesh, static_cast<int>(target), 6);
-  // The lattice's vertex count at the uniform h: (h₁ / h)², h₁ the edge length of one vertex.
-  const double latticeVertices =
-      std::pow(edgeLengthForVertexCount(repaired.mesh, 1, 6) / uniform, 2);
+  const double latticeVertices = latticeVertexCount(repaired.mesh, uniform);
   if (!(latticeVertices <= static_cast<double>(kMaxTargetVertices))) {
     std::ostringstream message;
     message << "edge length " << uniform << " would give about " << std::setprecision(3)
@@ -154,11 +164,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
       return mesh.calc_edge_length(e) > longest * uniform;
     });
     if (longer && !unrefined) unrefined = repaired.mesh;
-    const long long splits = splitLongEdges(repaired.mesh, longest * uniform, options.maxFaces);
-    if (splits > 0) {
-      flipFlatRegionsToDelaunay(repaired.mesh);
-      relaxFlatRegions(repaired.mesh, kFlatRelaxationRounds);
-    }
+    const long long splits = refineLongEdges(repaired.mesh, longest * uniform, options.maxFaces);
     addTiming(result.timings, "refinement", secondsSince(start));
     result.inputEdgesSplit += splits;
     return splits > 0;
@@ -197,11 +203,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   // singularity they would become (a cube of 8 vertices at K = 2 stays as it is).
   refine(kInputEdgeInEdgeLengths);
   RosyField field = computeField();
-  int unsplit = 0;
-  for (const auto& s : field.singularities)
-    if (!s.onBoundary && std::abs(s.index) > kMergedIndexForLattice) unsplit += std::abs(s.index);
-  if (unsplit > 0 && latticeVertices >= kLatticeVerticesPerSplitSingularity * unsplit &&
-      refine(kCoarseInputEdgeInEdgeLengths))
+  if (needsFinerInputForLattice(field, latticeVertices) && refine(kCoarseInputEdgeInEdgeLengths))
     field = computeField();
   context.throwIfCanceled();
 

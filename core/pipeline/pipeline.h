@@ -56,11 +56,10 @@ struct RemeshOptions {
 };
 
 /// Before the field, the repaired input's edges are split until none is longer than this many
-/// uniform edge lengths h (splitLongEdges). Scanned meshes are finer: the clean test meshes'
+/// uniform edge lengths h (refineLongEdges in core/mesh/refine.h; remesh and `hexcover param`).
+/// Scanned meshes are finer: the clean test meshes'
 /// longest edges are 0.6-3.0 h at a quarter of their vertices, and none is split.
 inline constexpr double kInputEdgeInEdgeLengths = 4.0;
-/// Rounds of relaxFlatRegions after a refinement that split edges.
-inline constexpr int kFlatRelaxationRounds = 5;
 /// When the field keeps an interior singularity of an index above kMergedIndexForLattice, the
 /// input is refined to edges of at most this many h and the field computed again. The centres of
 /// a CAD cylinder's caps (fans of slivers) carry the smoothest field's +6/6, which the field can
@@ -69,6 +68,15 @@ inline constexpr double kCoarseInputEdgeInEdgeLengths = 1.0;
 /// ... provided the lattice has this many vertices for each first-order singularity those would
 /// be split into (12 on a cylinder: from K = 48).
 inline constexpr double kLatticeVerticesPerSplitSingularity = 4.0;
+
+/// About how many vertices a uniform lattice of edge length h has on `mesh`.
+double latticeVertexCount(const TriMesh& mesh, double h);
+
+/// True when `field` keeps an interior singularity of an index above kMergedIndexForLattice and
+/// a lattice of `latticeVertices` vertices has kLatticeVerticesPerSplitSingularity of them for
+/// each first-order singularity it would split into: its input is then refined to
+/// kCoarseInputEdgeInEdgeLengths and the field computed again (remesh and `hexcover param`).
+bool needsFinerInputForLattice(const RosyField& field, double latticeVertices);
 
 struct RemeshResult {
   MeshReport inputReport;      ///< validation and repair of the input

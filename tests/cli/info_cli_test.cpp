@@ -181,5 +181,26 @@ TEST_F(CliTest, ParamClustersSingularitiesAtSixEdgeLengthsUnlessToldOtherwise) {
   EXPECT_NE(refused.err.find("--d-sing"), std::string::npos) << refused.err;
 }
 
+// A cylinder as CAD exporters write it (caps as fans of slivers, sides as full-height strips)
+// has no room for the lattice: as in the remesh pipeline, `param` splits its long edges first,
+// and its caps' +6/6 become first-order singularities. Before, the parameterization had 2
+// singularities of +6/6 and 38 flipped triangles; the textured mesh is now the refined one.
+TEST_F(CliTest, ParamRefinesAnInputMuchCoarserThanTheLattice) {
+  const auto path = dir_ / "cylinder.obj", textured = dir_ / "textured.obj";
+  const TriMesh cylinder = makeCappedCylinder(1.0, 2.0, 64);
+  writeMesh(toPolygonSoup(cylinder), path);
+  const CommandResult result =
+      hexcover("param '" + path.string() + "' -o '" + textured.string() + "' --vertices 1000");
+  ASSERT_EQ(result.status, 0) << result.err;
+  const nlohmann::json json = nlohmann::json::parse(result.out);
+  EXPECT_GT(json["input_edges_split"].get<long long>(), 0);
+  EXPECT_EQ(json["flipped"], 0);
+  EXPECT_EQ(json["degenerate"], 0);
+  EXPECT_EQ(json["singularities"], 12);
+  for (const auto& singularity : json["singularity_coords"])
+    EXPECT_EQ(singularity["index_numerator"], 1);
+  EXPECT_GT(readMesh(textured).vertexCount(), cylinder.n_vertices());
+}
+
 }  // namespace
 }  // namespace hexcover
