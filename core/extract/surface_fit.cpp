@@ -23,6 +23,11 @@ constexpr double kSnapReach = 0.7;
 /// Angles that a snapped corner's triangles must keep (degrees).
 constexpr double kSnapMinAngle = 25.0;
 constexpr double kSnapMaxAngle = 115.0;
+/// Crease samples lie at most kCreaseSampleSpacing mean edge lengths apart inside the input's
+/// crease edges; one that the remesh cuts off pulls a corner within kCreaseSnapReach local edge
+/// lengths of its edge onto the edge's closest point.
+constexpr double kCreaseSampleSpacing = 0.5;
+constexpr double kCreaseSnapReach = 0.2;
 /// Fractions of the way to the feature point that a snap tries, in order.
 constexpr std::array<double, 3> kSnapFractions{1.0, 0.7, 0.45};
 /// A triangle with an angle outside [kPoorMinAngle, kPoorMaxAngle] is poor: its corners are
@@ -71,9 +76,14 @@ class SurfaceFit {
         locked_(remesh.n_vertices(), 0),
         moved_(remesh.n_vertices(), 0) {
     for (const auto v : remesh_.vertices()) locked_[v.idx()] = !isInterior(v);
+    double lengthSum = 0.0;
+    for (const auto e : remesh_.edges()) lengthSum += remesh_.calc_edge_length(e);
+    meanEdgeLength_ =
+        remesh_.n_edges() > 0 ? lengthSum / static_cast<double>(remesh_.n_edges()) : 0.0;
     std::vector<char> onCrease(input.n_vertices(), 0);
+    std::vector<double> dihedral;
     if (creaseAngle > 0.0) {
-      const std::vector<double> dihedral = dihedralAngles(input);
+      dihedral = dihedralAngles(input);
       for (const auto e : input.edges())
         if (dihedral[e.idx()] >= creaseAngle) onCrease[e.v0().idx()] = onCrease[e.v1().idx()] = 1;
     }
@@ -82,16 +92,27 @@ class SurfaceFit {
         inputPoints_.push_back(toEigen(input.point(v)));
         creasePoint_.push_back(onCrease[v.idx()]);
       }
+    inputVertexCount_ = inputPoints_.size();
+    // Crease samples: evenly spaced inside every crease edge, at most kCreaseSampleSpacing mean
+    // edge lengths apart.
+    const double spacing = kCreaseSampleSpacing * meanEdgeLength_;
+    if (spacing > 0.0 && !dihedral.empty())
+      for (const auto e : input.edges()) {
+        if (dihedral[e.idx()] < creaseAngle) continue;
+        const Vec3 a = toEigen(input.point(e.v0())), b = toEigen(input.point(e.v1()));
+        const int samples = static_cast<int>((b - a).norm() / spacing);
+        for (int i = 1; i <= samples; ++i) {
+          inputPoints_.push_back(a + (b - a) * (static_cast<double>(i) / (samples + 1)));
+          creasePoint_.push_back(0);
+          creaseSegment_.emplace_back(a, b);
+        }
+      }
     featurePointCount_ = inputPoints_.size();
     for (const auto f : input.faces()) {
       Vec3 centroid = Vec3::Zero();
       for (const auto v : f.vertices()) centroid += toEigen(input.point(v)) / 3.0;
       inputPoints_.push_back(centroid);
     }
-    double lengthSum = 0.0;
-    for (const auto e : remesh_.edges()) lengthSum += remesh_.calc_edge_length(e);
-    meanEdgeLength_ =
-        remesh_.n_edges() > 0 ? lengthSum / static_cast<double>(remesh_.n_edges()) : 0.0;
   }
 
   /// Assigns the input points to their closest remesh triangles, then one round of feature
@@ -117,19 +138,33 @@ class SurfaceFit {
     long long moves = 0;
     for (const auto& candidate : candidates) {
       const auto face = remesh_.face_handle(nearest_[candidate.point].face);
-      const Vec3& target = inputPoints_[candidate.point];
-      std::vector<std::pair<double, SVH>> corners;
+      // An input vertex is the target of every corner; a crease sample stands for its crease
+      // edge, whose closest point to the corner is the target.
+      const bool crease = static_cast<std::size_t>(candidate.point) >= inputVertexCount_;
+      const auto targetOf = [&](SVH v) -> Vec3 {
+        if (!crease) return inputPoints_[candidate.point];
+        const auto& [a, b] = creaseSegment_[candidate.point - inputVertexCount_];
+        const double t = std::clamp((position(v) - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+        return a + t * (b - a);
+      };
+      struct Corner {
+        double distance;
+        SVH v;
+        Vec3 target;
+      };
+      std::vector<Corner> corners;
       bool stale = false;
       for (const auto v : OpenMesh::make_smart(face, remesh_).vertices()) {
         stale = stale || touched[v.idx()];
-        corners.push_back({(position(v) - target).norm(), v});
+        const Vec3 target = targetOf(v);
+        corners.push_back({(position(v) - target).norm(), v, target});
       }
       if (stale) continue;
-      std::sort(corners.begin(), corners.end(), [](const auto& a, const auto& b) {
-        return a.first < b.first || (a.first == b.first && a.second.idx() < b.second.idx());
+      std::sort(corners.begin(), corners.end(), [](const Corner& a, const Corner& b) {
+        return a.distance < b.distance || (a.distance == b.distance && a.v.idx() < b.v.idx());
       });
-      const double reach = kSnapReach * faceEdgeLength(face.idx());
-      for (const auto& [distance, v] : corners) {
+      const double reach = (crease ? kCreaseSnapReach : kSnapReach) * faceEdgeLength(face.idx());
+      for (const auto& [distance, v, target] : corners) {
         if (locked_[v.idx()] || distance > reach) continue;
         // Onto the point, or failing that part of the way (projected onto the input) while the
         // fan keeps its angles and comes closer to the input.
@@ -286,13 +321,16 @@ class SurfaceFit {
   const ClosestPointQuery& inputQuery_;
   std::vector<char> locked_;  ///< per remesh vertex: boundary, isolated or snapped all the way
   std::vector<char> moved_;   ///< per remesh vertex: moved since the last assignInputPoints
-  /// The input's vertices (the first featurePointCount_, the snaps' targets), then its face
-  /// centroids.
+  /// The snaps' targets (the first featurePointCount_): the input's vertices (the first
+  /// inputVertexCount_), then the crease samples; then the input's face centroids.
   std::vector<Vec3> inputPoints_;
+  std::size_t inputVertexCount_ = 0;
   std::size_t featurePointCount_ = 0;
   /// Per feature point: an input vertex on a crease (an edge whose dihedral angle is at least
-  /// the crease angle).
+  /// the crease angle), which relaxation keeps close; crease samples are not.
   std::vector<char> creasePoint_;
+  /// Per crease sample: its crease edge (the snap's target is the edge's closest point).
+  std::vector<std::pair<Vec3, Vec3>> creaseSegment_;
   double meanEdgeLength_ = 0.0;  ///< of the remesh as extracted
   /// Per input point: its closest remesh triangle (refreshed by assignInputPoints).
   std::vector<ClosestPointQuery::Result> nearest_;

@@ -10,7 +10,11 @@
 //   nearest corner of its closest remesh triangle onto itself, when that corner is within
 //   `kSnapReach` edge lengths and its triangles keep their angles in [kSnapMinAngle,
 //   kSnapMaxAngle]; failing that, 0.7 or 0.45 of the way (projected onto the input), and such a
-//   part-way move may go on in a later round.
+//   part-way move may go on in a later round. Points sampled inside the input's crease edges
+//   (every half mean edge length) do the same for a corner within kCreaseSnapReach (0.2) edge
+//   lengths of their crease edge, whose closest point is its target: where lattice rows cross a
+//   crease, the vertices beside it move onto it, between the input's vertices too (a plate
+//   with a hole at K = 2000: Hausdorff 0.88 -> 0.71%).
 // - Smoothing of poor triangles: a corner of a triangle with an angle below kPoorMinAngle or above
 //   kPoorMaxAngle (next to hole fills, folds and strips) moves to the best of a few trial
 //   positions (towards the centroid of its neighbours, and 8 directions in its tangent plane),

@@ -298,14 +298,14 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   // be lattice lines; a field that follows them all twists between them. The field that follows
   // only a compatible subset (latticeCompatibleCreases) is remeshed too, and its remesh is kept
   // when it keeps the input's topology, copies no more components and meets the vertex count as
-  // well, and when its triangles are closer to equilateral without a Hausdorff distance more
-  // than kCompatibleCreasesDistanceGrowth times larger: the creases it does not follow are cut
-  // by lattice rows, whose vertices reach them only where the input has vertices to snap to.
-  // Measured (angle SD, Hausdorff distance): an L-bracket at K = 2000 5.2° 0.78% -> 3.5° 0.65%,
-  // a plate with a hole 11.6° 0.82% -> 6.2° 0.88%; a box of 12 triangles at K = 3000 keeps all
-  // of its creases (3.6° 0.50% against 2.4° 0.74%), and so does fandisk at a quarter of its
-  // vertices (5.9° 0.71% against 6.3° 0.81%).
-  constexpr double kCompatibleCreasesDistanceGrowth = 1.1;
+  // well, and comes closer to the quality goals: angle SD / kGoalAngleSd + Hausdorff distance /
+  // kGoalHausdorffPct is lower (the creases it does not follow are cut by lattice rows, which
+  // costs distance). Measured (angle SD, Hausdorff distance, all creases -> compatible ones): an
+  // L-bracket at K = 2000 5.2° 0.63% -> 3.8° 0.59%, a plate with a hole 11.9° 0.66% -> 6.2°
+  // 0.71%; fandisk at a quarter of its vertices keeps all of its creases (5.9° 0.67% against
+  // 6.3° 0.81%).
+  constexpr double kGoalAngleSd = 4.0;
+  constexpr double kGoalHausdorffPct = 0.5;
   const TriMesh& reference = unrefined ? *unrefined : mesh;
   std::optional<QualityReport> metrics;
   const auto countOf = [](const std::vector<bool>& flags) {
@@ -333,9 +333,10 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
       QualityReport all = measureQuality(chosen.best.remesh.triangles, &reference);
       QualityReport fewer = measureQuality(compatible.best.remesh.triangles, &reference);
       addTiming(result.timings, "metrics", secondsSince(start));
-      takeCompatible = fewer.angleSd < all.angleSd &&
-                       fewer.distance->hausdorffPct <=
-                           kCompatibleCreasesDistanceGrowth * all.distance->hausdorffPct;
+      const auto toGoals = [&](const QualityReport& q) {
+        return q.angleSd / kGoalAngleSd + q.distance->hausdorffPct / kGoalHausdorffPct;
+      };
+      takeCompatible = toGoals(fewer) < toGoals(all);
       metrics = takeCompatible ? std::move(fewer) : std::move(all);
     }
     if (takeCompatible) {

@@ -1,6 +1,6 @@
 // Fitting the remesh to the input surface (core/extract/surface_fit.h): feature snapping onto a
-// sharp ridge (its threshold, part-way moves), smoothing of a poor triangle on a sphere,
-// relaxation and balancing about the input surface, on meshes generated here.
+// sharp ridge (its threshold, part-way moves, points sampled along a crease), smoothing of a poor
+// triangle on a sphere, relaxation and balancing about the input surface, on meshes generated here.
 
 #include <gtest/gtest.h>
 
@@ -43,6 +43,14 @@ TriMesh makeRoof() {
       mesh.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
     }
   return mesh;
+}
+
+/// Mean distance from the points to the mesh.
+double meanDistance(const std::vector<Vec3>& points, const TriMesh& mesh) {
+  const ClosestPointQuery query(mesh);
+  double total = 0.0;
+  for (const Vec3& p : points) total += query.closest(p).distance;
+  return total / static_cast<double>(points.size());
 }
 
 /// Largest distance from the points to the mesh.
@@ -111,6 +119,49 @@ TEST(SurfaceFit, SnapsVerticesOntoASharpRidgeThatTheCoarseMeshCutsOff) {
       EXPECT_EQ(p, before.point(v));
     }
   }
+  EXPECT_GE(smallestAngleDegrees(remesh), 20.0);
+}
+
+// The same ridge on a roof of four triangles: the input has no vertex on the ridge between its
+// ends, so only points sampled along the crease edge can pull the remesh onto it. The coarse
+// grid's rows cross the ridge (vertices 0.05 beside it on every other row, 0.45 on the others),
+// so its triangles cut the ridge off, by more than the snap distance of 0.35 edge lengths between
+// rows; vertices beside it snap onto it (its closest point), and the ridge comes closer on
+// average (the rows in between still cut it off).
+TEST(SurfaceFit, SnapsVerticesBesideACreaseOntoItBetweenTheInputsVertices) {
+  TriMesh input;
+  std::vector<TriMesh::VertexHandle> corner;
+  for (const double y : {0.0, 5.2})
+    for (const double x : {0.0, kRidgeX, 5.5}) corner.push_back(input.add_vertex({x, y, roof(x)}));
+  input.add_face(corner[0], corner[1], corner[4]);
+  input.add_face(corner[0], corner[4], corner[3]);
+  input.add_face(corner[1], corner[2], corner[5]);
+  input.add_face(corner[1], corner[5], corner[4]);
+  TriMesh remesh = makeEquilateralGrid(6, 7);
+  for (const auto v : remesh.vertices()) {
+    auto p = remesh.point(v);
+    p[0] -= 0.1;
+    p[2] = roof(p[0]);
+    remesh.set_point(v, p);
+  }
+  std::vector<Vec3> ridge;
+  for (double y = 1.0; y <= 4.2; y += 0.05) ridge.emplace_back(kRidgeX, y, 0.0);
+  TriMesh withoutCreases = remesh;
+  const SurfaceFitCounts counts =
+      fitRemeshToSurface(input, ClosestPointQuery(input), remesh, /*featureSnapDistance=*/0.35,
+                         kDefaultFeatureAngle, /*balanceDeviation=*/false);
+  fitRemeshToSurface(input, ClosestPointQuery(input), withoutCreases, 0.35, /*creaseAngle=*/0.0,
+                     /*balanceDeviation=*/false);
+  const auto onRidge = [](const TriMesh& mesh) {
+    int count = 0;
+    for (const auto v : mesh.vertices())
+      count += std::abs(mesh.point(v)[0] - kRidgeX) < 1e-9 && !mesh.is_boundary(v) ? 1 : 0;
+    return count;
+  };
+  EXPECT_GT(counts.snapped, 0);
+  EXPECT_GE(onRidge(remesh), 2);
+  EXPECT_EQ(onRidge(withoutCreases), 0);
+  EXPECT_LT(meanDistance(ridge, remesh), 0.9 * meanDistance(ridge, withoutCreases));
   EXPECT_GE(smallestAngleDegrees(remesh), 20.0);
 }
 
