@@ -102,6 +102,104 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+/// |V − K| / K below which a run meets the target vertex count (the promise is 10%).
+constexpr double kCountTolerance = 0.08;
+
+/// One parameterization and extraction.
+struct LatticeRun {
+  Parameterization param;
+  Remesh remesh;
+  bool topologyKept = false;
+  double countError = 0.0;  ///< |V − K| / K, 0 without a target count
+
+  bool betterThan(const LatticeRun& other) const {
+    if (topologyKept != other.topologyKept) return topologyKept;
+    return countError < other.countError;
+  }
+};
+
+/// What every run along a field shares.
+struct LatticeRuns {
+  const TriMesh& mesh;
+  const MeshTopology& inputTopology;
+  const std::vector<double>& sizing;
+  const ExtractOptions& extractOptions;
+  long long target;                  ///< K
+  bool targetGiven;                  ///< K was asked for (else it is the default, V/4)
+  std::optional<double> edgeLength;  ///< h when given (else the first run derives it from K)
+  bool mayRefine;  ///< h may shrink for topology (h from K below half the input's vertices)
+};
+
+/// The best run along one field, with the runs it took.
+struct Remeshing {
+  LatticeRun best;
+  int runs = 0;
+  int topologyMisses = 0;
+};
+
+/// Parameterization and extraction along `field`, at most kMaxRuns times. With a target vertex
+/// count, h is rescaled by sqrt(V / K) until the remesh is within 8% of K (the promise is 10%). A
+/// remesh whose topology differs from the repaired input's (fold-overs that neither the
+/// parameterization nor the extraction's repair removed) is redone with h 3% smaller, where the
+/// lattice falls differently; a second miss means the lattice is too coarse for the shape (a
+/// handle or a part narrower than a few edge lengths), and h then shrinks by 15% per run when
+/// h comes from a vertex count K below half the input's vertices. The best run is kept: the
+/// input's topology first, then the vertex count closest to K. So a vertex count too small for
+/// the shape gives a remesh with more vertices (and a warning that says why) rather than the
+/// input copied unchanged (fertility at K = 218: 353 vertices; the input has 13,971).
+Remeshing remeshAlongField(const RosyField& field, const LatticeRuns& runs, Timings& timings,
+                           const RunContext& context) {
+  constexpr int kMaxRuns = 4;
+  constexpr double kTopologyRetryScale = 0.97;
+  constexpr double kCoarseTopologyScale = 0.85;
+  using Clock = std::chrono::steady_clock;
+  const auto target = static_cast<double>(runs.target);
+  std::optional<LatticeRun> best;
+  int topologyMisses = 0;
+  double h = runs.edgeLength.value_or(0.0);
+  for (int run = 1;; ++run) {
+    auto start = Clock::now();
+    ParamOptions paramOptions;
+    // The first run without an edge length derives h from the target (the parameterization
+    // corrects it for its conformal scale); later runs rescale the h it used.
+    if (run == 1 && !runs.edgeLength)
+      paramOptions.targetVertices = static_cast<int>(runs.target);
+    else
+      paramOptions.edgeLength = h;
+    paramOptions.vertexSizing = runs.sizing;
+    LatticeRun current;
+    current.param = computeParameterization(runs.mesh, field, paramOptions, context);
+    h = current.param.edgeLength;
+    addTiming(timings, "parameterization", secondsSince(start));
+    context.throwIfCanceled();
+
+    start = Clock::now();
+    current.remesh = extractRemesh(runs.mesh, current.param, runs.extractOptions, context);
+    addTiming(timings, "extraction", secondsSince(start));
+    // A component copied because its lattice triangles had another topology counts as a
+    // topology miss, and so does, when the lattice may be refined, a remesh that is the input
+    // copied whole (no component took the lattice): their vertices do not measure h, and the
+    // next run takes the topology step.
+    const ExtractionReport& report = current.remesh.report;
+    const bool copiedWhole = report.components > 0 && report.componentsKept == report.components;
+    const bool latticeTooCoarse =
+        report.componentsKeptForTopology > 0 || (runs.mayRefine && copiedWhole);
+    current.topologyKept =
+        !latticeTooCoarse && computeTopology(current.remesh.triangles).sameAs(runs.inputTopology);
+    const double vertices = static_cast<double>(current.remesh.triangles.n_vertices());
+    if (runs.targetGiven) current.countError = std::abs(vertices - target) / target;
+    const bool rescale =
+        current.countError > kCountTolerance && vertices > 0.0 && !latticeTooCoarse;
+    const bool done = current.topologyKept && !rescale;
+    topologyMisses += current.topologyKept ? 0 : 1;
+    if (!best || current.betterThan(*best)) best = std::move(current);
+    if (done || run == kMaxRuns) return Remeshing{std::move(*best), run, topologyMisses};
+    h *= rescale                                ? std::sqrt(vertices / target)
+         : topologyMisses > 1 && runs.mayRefine ? kCoarseTopologyScale
+                                                : kTopologyRetryScale;
+  }
+}
+
 }  // namespace
 
 double latticeVertexCount(const TriMesh& mesh, double h) {
@@ -207,91 +305,20 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
     field = computeField();
   context.throwIfCanceled();
 
-  // 3 and 4. Parameterization and extraction, at most kMaxRuns times. With a target vertex count,
-  // h is rescaled by sqrt(V / K) until the remesh is within 8% of K (the promise is 10%). A remesh
-  // whose topology differs from the repaired input's (fold-overs that neither the
-  // parameterization nor the extraction's repair removed) is redone with h 3% smaller, where the
-  // lattice falls differently; a second miss means the lattice is too coarse for the shape (a
-  // handle or a part narrower than a few edge lengths), and h then shrinks by 15% per run when
-  // h comes from a vertex count K below half the input's vertices. The best run is kept: the
-  // input's topology first, then the vertex count closest to K. So a vertex count too small for
-  // the shape gives a remesh with more vertices (and a warning that says why) rather than the
-  // input copied unchanged (fertility at K = 218: 353 vertices; the input has 13,971).
-  constexpr int kMaxRuns = 4;
-  constexpr double kTolerance = 0.08;
-  constexpr double kTopologyRetryScale = 0.97;
-  constexpr double kCoarseTopologyScale = 0.85;
+  // 3 and 4. Parameterization and extraction (see remeshAlongField).
   const MeshTopology inputTopology = computeTopology(mesh);
   ExtractOptions extractOptions;
   extractOptions.balanceDeviation = options.placement == VertexPlacement::Balanced;
   extractOptions.creaseAngle = options.featureAngle;
-  struct Run {
-    Parameterization param;
-    Remesh remesh;
-    bool topologyKept = false;
-    double countError = 0.0;  // |V − K| / K, 0 without a target count
-
-    bool betterThan(const Run& other) const {
-      if (topologyKept != other.topologyKept) return topologyKept;
-      return countError < other.countError;
-    }
-  };
-  // The best run of one field, with the runs it took.
-  struct Remeshing {
-    Run best;
-    int runs = 0;
-    int topologyMisses = 0;
-  };
-  const bool mayRefine = !options.edgeLength && 2 * target < inputVertices;
-  const double fieldH = h;
-  const auto parameterizeAndExtract = [&](const RosyField& runField) {
-    std::optional<Run> best;
-    int topologyMisses = 0;
-    double runH = fieldH;
-    for (int run = 1;; ++run) {
-      auto start = Clock::now();
-      ParamOptions paramOptions;
-      // The first run without an edge length derives h from the target (the parameterization
-      // corrects it for its conformal scale); later runs rescale the h it used.
-      if (run == 1 && !options.edgeLength)
-        paramOptions.targetVertices = static_cast<int>(target);
-      else
-        paramOptions.edgeLength = runH;
-      paramOptions.vertexSizing = sizing;
-      Run current;
-      current.param = computeParameterization(mesh, runField, paramOptions, context);
-      runH = current.param.edgeLength;
-      addTiming(result.timings, "parameterization", secondsSince(start));
-      context.throwIfCanceled();
-
-      start = Clock::now();
-      current.remesh = extractRemesh(mesh, current.param, extractOptions, context);
-      addTiming(result.timings, "extraction", secondsSince(start));
-      // A component copied because its lattice triangles had another topology counts as a
-      // topology miss, and so does, when the lattice may be refined, a remesh that is the input
-      // copied whole (no component took the lattice): their vertices do not measure h, and the
-      // next run takes the topology step.
-      const ExtractionReport& report = current.remesh.report;
-      const bool copiedWhole = report.components > 0 && report.componentsKept == report.components;
-      const bool latticeTooCoarse =
-          report.componentsKeptForTopology > 0 || (mayRefine && copiedWhole);
-      current.topologyKept =
-          !latticeTooCoarse && computeTopology(current.remesh.triangles).sameAs(inputTopology);
-      const double vertices = static_cast<double>(current.remesh.triangles.n_vertices());
-      if (options.targetVertices)
-        current.countError =
-            std::abs(vertices - static_cast<double>(target)) / static_cast<double>(target);
-      const bool rescale = current.countError > kTolerance && vertices > 0.0 && !latticeTooCoarse;
-      const bool done = current.topologyKept && !rescale;
-      topologyMisses += current.topologyKept ? 0 : 1;
-      if (!best || current.betterThan(*best)) best = std::move(current);
-      if (done || run == kMaxRuns) return Remeshing{std::move(*best), run, topologyMisses};
-      runH *= rescale                           ? std::sqrt(vertices / static_cast<double>(target))
-              : topologyMisses > 1 && mayRefine ? kCoarseTopologyScale
-                                                : kTopologyRetryScale;
-    }
-  };
-  Remeshing chosen = parameterizeAndExtract(field);
+  const LatticeRuns runs{mesh,
+                         inputTopology,
+                         sizing,
+                         extractOptions,
+                         target,
+                         options.targetVertices.has_value(),
+                         options.edgeLength,
+                         !options.edgeLength && 2 * target < inputVertices};
+  Remeshing chosen = remeshAlongField(field, runs, result.timings, context);
   result.sizeIterations = chosen.runs;
 
   // Crease lines that meet at angles other than multiples of 60° (a box's 90° corners) cannot all
@@ -302,8 +329,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   // kGoalHausdorffPct is lower (the creases it does not follow are cut by lattice rows, which
   // costs distance). Measured (angle SD, Hausdorff distance, all creases -> compatible ones): an
   // L-bracket at K = 2000 5.2° 0.63% -> 3.8° 0.59%, a plate with a hole 11.9° 0.66% -> 6.2°
-  // 0.71%; fandisk at a quarter of its vertices keeps all of its creases (5.9° 0.67% against
-  // 6.3° 0.81%).
+  // 0.71%; fandisk at K = 1562 keeps all of its creases (5.8° 0.93% against 6.6° 0.84%).
   constexpr double kGoalAngleSd = 4.0;
   constexpr double kGoalHausdorffPct = 0.5;
   const TriMesh& reference = unrefined ? *unrefined : mesh;
@@ -320,12 +346,12 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
     RosyField compatibleField = computeRosyField(mesh, compatibleOptions, context);
     addTiming(result.timings, "field", secondsSince(start));
     context.throwIfCanceled();
-    Remeshing compatible = parameterizeAndExtract(compatibleField);
+    Remeshing compatible = remeshAlongField(compatibleField, runs, result.timings, context);
     result.sizeIterations += compatible.runs;
     // What comes before the shape: the topology, the components copied, the vertex count.
     const auto essentials = [&](const Remeshing& r) {
       return std::make_tuple(!r.best.topologyKept, r.best.remesh.report.componentsKept,
-                             r.best.countError > kTolerance);
+                             r.best.countError > kCountTolerance);
     };
     bool takeCompatible = essentials(compatible) < essentials(chosen);
     if (essentials(compatible) == essentials(chosen)) {
