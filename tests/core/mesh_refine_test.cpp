@@ -144,6 +144,25 @@ TEST(MeshRefine, RelaxingAFlatRegionSpreadsItsPointsAndKeepsItsBoundary) {
   EXPECT_EQ(relaxFlatRegions(sphere, 3), 0);
 }
 
+// refineLongEdges is the three steps in order, and only the split when there is nothing to split:
+// the same mesh as splitting, flipping and relaxing by hand, and a fine mesh left as it is.
+TEST(MeshRefine, RefineLongEdgesSplitsThenFlipsAndRelaxesTheFlatRegions) {
+  TriMesh byHand = fannedSquare();
+  const long long splits = splitLongEdges(byHand, 0.15);
+  flipFlatRegionsToDelaunay(byHand);
+  relaxFlatRegions(byHand, kFlatRelaxationRounds);
+  TriMesh refined = fannedSquare();
+  EXPECT_EQ(refineLongEdges(refined, 0.15), splits);
+  ASSERT_EQ(refined.n_vertices(), byHand.n_vertices());
+  for (const auto v : refined.vertices()) EXPECT_EQ(refined.point(v), byHand.point(v));
+  EXPECT_EQ(trianglesOf(refined).size(), trianglesOf(byHand).size());
+
+  TriMesh fine = fannedSquare();
+  EXPECT_EQ(refineLongEdges(fine, 10.0), 0);
+  EXPECT_EQ(trianglesWithAngleBelow(fine, 20.0), trianglesWithAngleBelow(fannedSquare(), 20.0))
+      << "nothing split, so the slivers are not flipped either";
+}
+
 TEST(MeshRefine, StopsAtTheFaceLimit) {
   TriMesh cylinder = makeCappedCylinder(1.0, 2.0, 16);
   const std::size_t limit = cylinder.n_faces() + 40;
