@@ -5,7 +5,8 @@
 // --subdivide S splits every triangle of the input 1-to-4 S times first (the 1M-face case:
 // --only stanford-bunny --subdivide 2 --quarter-only --runs 1, 1.1M faces). --generated remeshes
 // shapes tessellated as CAD exporters write them instead (core/mesh/primitives.h: a cylinder with
-// fans of slivers for caps, a latitude-longitude sphere, a box of 12 triangles) at K = 300 and
+// fans of slivers for caps, a latitude-longitude sphere, a box of 12 triangles, an L-bracket and
+// a plate with a hole, their faces fanned) at K = 300 and
 // 3000. The "repair s" column includes the refinement before the field.
 // Never asserts on time.
 
@@ -120,6 +121,9 @@ int main(int argc, char** argv) {
     inputs.push_back(
         {"latitude-longitude sphere 32x16", toPolygonSoup(makeUvSphere(1.0, 32, 16)), {}});
     inputs.push_back({"box of 12 triangles", toPolygonSoup(makeBox(1.0, 0.8, 0.6, 1)), {}});
+    inputs.push_back({"L-bracket", toPolygonSoup(makeLBracket(2.0, 0.5, 0.4)), {}});
+    inputs.push_back(
+        {"plate with a hole", toPolygonSoup(makePlateWithHole(2.0, 0.5, 0.2, 48)), {}});
     for (auto& input : inputs) input.targets = {300, 3000};
   } else {
     const std::filesystem::path dir = std::filesystem::path(HEXCOVER_SHARED_MESHES) / "clean";

@@ -1,5 +1,6 @@
 #include "core/mesh/primitives.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
@@ -12,6 +13,21 @@ namespace {
 using VH = TriMesh::VertexHandle;
 
 TriMesh::Point point(double x, double y, double z) { return {x, y, z}; }
+
+/// Adds the triangle (a, b, c), turned so that its normal points along `outward`.
+void addFaceFacing(TriMesh& mesh, VH a, VH b, VH c, const TriMesh::Point& outward) {
+  const TriMesh::Point normal = (mesh.point(b) - mesh.point(a)) % (mesh.point(c) - mesh.point(a));
+  if ((normal | outward) >= 0.0)
+    mesh.add_face(a, b, c);
+  else
+    mesh.add_face(a, c, b);
+}
+
+/// Adds the planar quad a-b-c-d as two triangles facing `outward`.
+void addQuadFacing(TriMesh& mesh, VH a, VH b, VH c, VH d, const TriMesh::Point& outward) {
+  addFaceFacing(mesh, a, b, c, outward);
+  addFaceFacing(mesh, a, c, d, outward);
+}
 
 }  // namespace
 
@@ -213,6 +229,71 @@ TriMesh makeUvSphere(double radius, int longitudes, int latitudes) {
       mesh.add_face(rings[j][i], rings[j + 1][i], rings[j + 1][k]);
       mesh.add_face(rings[j][i], rings[j + 1][k], rings[j][k]);
     }
+  }
+  return mesh;
+}
+
+TriMesh makeLBracket(double arm, double width, double thickness) {
+  TriMesh mesh;
+  const std::array<std::array<double, 2>, 6> outline{
+      {{0.0, 0.0}, {arm, 0.0}, {arm, width}, {width, width}, {width, arm}, {0.0, arm}}};
+  std::array<VH, 6> bottom, top;
+  for (std::size_t i = 0; i < outline.size(); ++i) {
+    bottom[i] = mesh.add_vertex(point(outline[i][0], outline[i][1], 0.0));
+    top[i] = mesh.add_vertex(point(outline[i][0], outline[i][1], thickness));
+  }
+  constexpr std::size_t kInnerCorner = 3;
+  for (std::size_t i = 0; i < outline.size(); ++i) {
+    const std::size_t j = (i + 1) % outline.size();
+    const TriMesh::Point side = mesh.point(bottom[j]) - mesh.point(bottom[i]);
+    addQuadFacing(mesh, bottom[i], bottom[j], top[j], top[i], point(side[1], -side[0], 0.0));
+    if (i != kInnerCorner && j != kInnerCorner) {
+      addFaceFacing(mesh, bottom[kInnerCorner], bottom[i], bottom[j], point(0.0, 0.0, -1.0));
+      addFaceFacing(mesh, top[kInnerCorner], top[i], top[j], point(0.0, 0.0, 1.0));
+    }
+  }
+  return mesh;
+}
+
+TriMesh makePlateWithHole(double side, double holeRadius, double thickness, int holeSegments) {
+  TriMesh mesh;
+  const int quarter = std::max(1, holeSegments / 4), n = 4 * quarter;
+  const double half = 0.5 * side;
+  // Corner k at 45° + 90°·k; hole point i at 360°·i / n.
+  std::array<std::array<VH, 4>, 2> corner;
+  std::array<std::vector<VH>, 2> hole;
+  for (int level = 0; level < 2; ++level) {
+    const double z = level * thickness;
+    for (int k = 0; k < 4; ++k) {
+      const double angle = M_PI / 4.0 + M_PI / 2.0 * k;
+      corner[level][k] = mesh.add_vertex(
+          point(std::copysign(half, std::cos(angle)), std::copysign(half, std::sin(angle)), z));
+    }
+    for (int i = 0; i < n; ++i) {
+      const double angle = 2.0 * M_PI * i / n;
+      hole[level].push_back(
+          mesh.add_vertex(point(holeRadius * std::cos(angle), holeRadius * std::sin(angle), z)));
+    }
+  }
+  for (int level = 0; level < 2; ++level) {
+    const TriMesh::Point up = point(0.0, 0.0, level == 0 ? -1.0 : 1.0);
+    // Each hole segment fanned to the corner of its quarter, and between two quarters the
+    // triangle of their corners and the hole point on the boundary.
+    for (int i = 0; i < n; ++i)
+      addFaceFacing(mesh, hole[level][i], hole[level][(i + 1) % n], corner[level][i / quarter], up);
+    for (int k = 0; k < 4; ++k)
+      addFaceFacing(mesh, corner[level][(k + 3) % 4], corner[level][k], hole[level][k * quarter],
+                    up);
+  }
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1) % n;
+    const TriMesh::Point inward = -(mesh.point(hole[0][i]) + mesh.point(hole[0][j]));
+    addQuadFacing(mesh, hole[0][i], hole[0][j], hole[1][j], hole[1][i], inward);
+  }
+  for (int k = 0; k < 4; ++k) {
+    const int l = (k + 1) % 4;
+    const TriMesh::Point outward = mesh.point(corner[0][k]) + mesh.point(corner[0][l]);
+    addQuadFacing(mesh, corner[0][k], corner[0][l], corner[1][l], corner[1][k], outward);
   }
   return mesh;
 }

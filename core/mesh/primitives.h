@@ -40,4 +40,16 @@ TriMesh makeCappedCylinder(double radius, double height, int around);
 /// (graphics and CAD exporters write spheres so). χ = 2.
 TriMesh makeUvSphere(double radius, int longitudes, int latitudes);
 
+/// L-shaped bracket as CAD exporters write it: the outline (0,0), (arm,0), (arm,width),
+/// (width,width), (width,arm), (0,arm) extruded by `thickness` along z, each cap a fan from the
+/// inner corner, each side one quad of the full height. 12 vertices; 18 creases of 90° (270° at
+/// the inner corner). χ = 2.
+TriMesh makeLBracket(double arm, double width, double thickness);
+
+/// Square plate of the given side and thickness with a round hole through its centre, as CAD
+/// exporters write it: each cap fans the hole's segments (holeSegments, rounded down to a
+/// multiple of 4) to the square's corners, the hole's wall and the sides are quads of the full
+/// thickness. Genus 1 (χ = 0); the rims of the caps are creases of 90°.
+TriMesh makePlateWithHole(double side, double holeRadius, double thickness, int holeSegments);
+
 }  // namespace hexcover

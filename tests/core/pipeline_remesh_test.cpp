@@ -310,6 +310,29 @@ TEST(PipelineRemesh, RemeshesACadCylinderWhoseCapsAreFansOfSlivers) {
   }
 }
 
+// CAD parts whose planar faces are fans of slivers and whose creases meet at 90° (and 270°):
+// remeshed along the creases a lattice can follow, with crease samples in the fit. Before (all
+// creases followed, snaps onto input vertices only): the L-bracket SD 4.9°, Hausdorff 0.91%; the
+// plate SD 5.3°, 1.20% (now 3.8° and 0.51%, 3.9° and 0.57%).
+TEST(PipelineRemesh, RemeshesCadPartsWithRightAngledCreases) {
+  const std::array<std::pair<const char*, TriMesh>, 2> parts{
+      {{"L-bracket", makeLBracket(2.0, 0.5, 0.4)},
+       {"plate with a hole", makePlateWithHole(2.0, 0.5, 0.2, 48)}}};
+  for (const auto& [name, part] : parts) {
+    RemeshOptions options;
+    options.targetVertices = 2000;
+    const RemeshResult result = remesh(toPolygonSoup(part), options);
+    EXPECT_TRUE(result.metrics.topologyMatchesReference.value_or(false)) << name;
+    EXPECT_EQ(result.remesh.report.componentsKept, 0) << name;
+    EXPECT_EQ(result.metrics.irregularInterior, static_cast<int>(result.singularities.size()))
+        << name;
+    EXPECT_LT(result.metrics.angleSd, 4.5) << name;
+    EXPECT_GE(result.metrics.angleMin, 30.0) << name;
+    EXPECT_LE(result.metrics.angleMax, 105.0) << name;
+    EXPECT_LT(result.metrics.distance->hausdorffPct, 0.8) << name;
+  }
+}
+
 // Mean length of the edges of `mesh` whose midpoints have x below (or at least) `split`.
 std::array<double, 2> meanEdgeLengthsAroundX(const TriMesh& mesh, double split) {
   std::array<double, 2> total{}, count{};
