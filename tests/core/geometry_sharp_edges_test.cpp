@@ -10,6 +10,7 @@
 #include "core/geometry/sharp_edges.h"
 #include "core/mesh/primitives.h"
 #include "core/mesh/topology.h"
+#include "tests/common/mesh_measures.h"
 
 namespace hexcover {
 namespace {
@@ -96,25 +97,13 @@ TEST(GeometrySharpEdges, CreasesMeetingAtMultiplesOfSixtyDegreesAndClosedOnesAll
   EXPECT_EQ(latticeCompatibleCreases(cylinder, rims, 6), rims);
 }
 
-/// Volume enclosed by a closed mesh (positive when its faces turn outward).
-double enclosedVolume(const TriMesh& mesh) {
-  double volume = 0.0;
-  for (const auto f : mesh.faces()) {
-    std::array<Eigen::Vector3d, 3> p;
-    int i = 0;
-    for (const auto v : f.vertices()) p[i++] = toEigen(mesh.point(v));
-    volume += p[0].dot(p[1].cross(p[2])) / 6.0;
-  }
-  return volume;
-}
-
 // The generated CAD parts are closed solids facing outward, with their creases as lines and flat
 // fans that are not creases: the L-bracket's 18 edges of 90° and 270°, and the plate's rims
 // (2 × 4 sides and 2 × 48 hole segments; its 4 vertical edges are of 90° too).
 TEST(GeometrySharpEdges, GeneratedCadPartsHaveTheirCreasesAndNoneInTheirFans) {
   const TriMesh bracket = makeLBracket(2.0, 0.5, 0.4);
   EXPECT_EQ(computeTopology(bracket).eulerCharacteristic, 2);
-  EXPECT_NEAR(enclosedVolume(bracket), (2.0 * 0.5 + 1.5 * 0.5) * 0.4, 1e-12);
+  EXPECT_NEAR(test::signedVolume(bracket), (2.0 * 0.5 + 1.5 * 0.5) * 0.4, 1e-12);
   EXPECT_EQ(count(sharpEdges(bracket, 60.0, 0.0)), 18);
 
   const TriMesh plate = makePlateWithHole(2.0, 0.5, 0.2, 48);
@@ -122,7 +111,7 @@ TEST(GeometrySharpEdges, GeneratedCadPartsHaveTheirCreasesAndNoneInTheirFans) {
   EXPECT_EQ(topology.genus(), 1);
   EXPECT_EQ(topology.boundaryLoops, 0);
   const double hole = 0.5 * 48 * 0.25 * std::sin(2.0 * M_PI / 48);
-  EXPECT_NEAR(enclosedVolume(plate), (4.0 - hole) * 0.2, 1e-12);
+  EXPECT_NEAR(test::signedVolume(plate), (4.0 - hole) * 0.2, 1e-12);
   EXPECT_EQ(count(sharpEdges(plate, 60.0, 0.0)), 2 * 4 + 2 * 48 + 4);
 }
 

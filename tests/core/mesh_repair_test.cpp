@@ -13,6 +13,7 @@
 #include "core/mesh/repair.h"
 #include "core/mesh/validate.h"
 #include "tests/common/mesh_expectations.h"
+#include "tests/common/mesh_measures.h"
 
 namespace hexcover {
 namespace {
@@ -31,18 +32,6 @@ std::string errorMessage(F run, ErrorCode code) {
 
 bool contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
-}
-
-// Signed volume enclosed by a closed mesh (positive when normals point outward).
-double signedVolume(const TriMesh& mesh) {
-  double volume = 0.0;
-  for (const auto fh : mesh.faces()) {
-    std::array<Eigen::Vector3d, 3> p;
-    int i = 0;
-    for (const auto vh : fh.vertices()) p[i++] = toEigen(mesh.point(vh));
-    volume += p[0].dot(p[1].cross(p[2])) / 6.0;
-  }
-  return volume;
 }
 
 // Every triangle kept or counted: input triangles = result faces + dropped faces.
@@ -227,7 +216,7 @@ TEST(MeshRepair, OrientsFlippedFacesConsistentlyAndClosedMeshesOutward) {
   EXPECT_GT(repaired.report.input.inconsistentlyOrientedEdges, 0u);
   EXPECT_EQ(repaired.report.repairs.flippedFaces, flipped);
   expectManifoldAndOriented(repaired.report.result);
-  EXPECT_GT(signedVolume(repaired.mesh), 0.0);
+  EXPECT_GT(test::signedVolume(repaired.mesh), 0.0);
 
   // An inside-out sphere is consistent but faces inward: every face is turned.
   PolygonSoup insideOut = toPolygonSoup(makeIcosphere(2));
@@ -236,7 +225,7 @@ TEST(MeshRepair, OrientsFlippedFacesConsistentlyAndClosedMeshesOutward) {
   const RepairedMesh turned = repairMesh(insideOut);
   EXPECT_EQ(turned.report.input.inconsistentlyOrientedEdges, 0u);
   EXPECT_EQ(turned.report.repairs.flippedFaces, insideOut.faceCount());
-  EXPECT_GT(signedVolume(turned.mesh), 0.0);
+  EXPECT_GT(test::signedVolume(turned.mesh), 0.0);
 }
 
 TEST(MeshRepair, TriangulatesConcavePolygonsInsideTheirOutline) {
