@@ -271,7 +271,6 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   // 2. Sizing (curvature sizing is smoothed over kSizingSmoothingInEdges uniform edge lengths),
   // h and the field, on the input as refined.
   std::vector<double> sizing;
-  double h = 0.0;
   FieldOptions fieldOptions;
   const auto computeField = [&] {
     auto start = Clock::now();
@@ -280,8 +279,9 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
                             kSizingSmoothingInEdges * uniform);
       addTiming(result.timings, "sizing", secondsSince(start));
     }
-    h = options.edgeLength ? *options.edgeLength
-                           : edgeLengthForVertexCount(mesh, static_cast<int>(target), 6, sizing);
+    const double h = options.edgeLength
+                         ? *options.edgeLength
+                         : edgeLengthForVertexCount(mesh, static_cast<int>(target), 6, sizing);
     result.singularityDistance = options.dSing.value_or(kSingularityDistanceInEdges * h);
     start = Clock::now();
     fieldOptions = parameterizationFieldOptions(options.rosy, h, result.singularityDistance,
@@ -334,12 +334,8 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   constexpr double kGoalHausdorffPct = 0.5;
   const TriMesh& reference = unrefined ? *unrefined : mesh;
   std::optional<QualityReport> metrics;
-  const auto countOf = [](const std::vector<bool>& flags) {
-    return std::count(flags.begin(), flags.end(), true);
-  };
   if (!field.sharpEdges.empty() &&
-      countOf(latticeCompatibleCreases(mesh, field.sharpEdges, field.n)) <
-          countOf(field.sharpEdges)) {
+      latticeCompatibleCreases(mesh, field.sharpEdges, field.n) != field.sharpEdges) {
     auto start = Clock::now();
     FieldOptions compatibleOptions = fieldOptions;
     compatibleOptions.compatibleCreasesOnly = true;
