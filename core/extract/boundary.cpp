@@ -154,6 +154,26 @@ BoundaryIndex::Hit BoundaryIndex::nearestOnLoop(const Eigen::Vector3d& p, int i)
   return best;
 }
 
+BoundaryIndex::Hit BoundaryIndex::farthestFromChord(int i, double from, double to) const {
+  const auto& arc = arcs_[i];
+  const auto& points = loops_[i];
+  const double length = arc.back();
+  const auto wrapped = [&](double s) { return s - length * std::floor(s / length); };
+  const Eigen::Vector3d a = pointAt(i, wrapped(from)), b = pointAt(i, wrapped(to));
+  Hit farthest;
+  // The loop's points at unwrapped arc lengths arc[k] + j·length inside (from, to).
+  const double start = std::floor(from / length) * length;
+  for (double offset = start; offset < to; offset += length)
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      const double s = offset + arc[k];
+      if (!(s > from && s < to)) continue;
+      const double d = (a + closestOnSegment(points[k], a, b) * (b - a) - points[k]).norm();
+      if (farthest.loop < 0 || d > farthest.distance) farthest = {i, d, arc[k]};
+    }
+  if (farthest.loop < 0) farthest.distance = 0.0;
+  return farthest;
+}
+
 Eigen::Vector3d BoundaryIndex::pointAt(int i, double s) const {
   const auto& arc = arcs_[i];
   const auto& points = loops_[i];
@@ -387,6 +407,9 @@ int slideBoundarySamples(const BoundaryIndex& index, std::vector<LoopSamples>& s
                          const std::vector<Triangle>& region, std::vector<Eigen::Vector3d>& positions) {
   constexpr int kCandidates = 16, kPasses = 2;
   constexpr double kClearance = 0.3;  // least distance to a neighbour, in sample spacings
+  // A slide may not let the loop stray farther than this many spacings from the sample's edges
+  // (or than it does before the slide).
+  constexpr double kChordDeviation = 0.25;
   std::unordered_map<int, std::vector<int>> triangles;  // sample vertex -> its region triangles
   for (const auto& loop : samples)
     for (const int v : loop.vertex) triangles[v];
@@ -437,10 +460,18 @@ int slideBoundarySamples(const BoundaryIndex& index, std::vector<LoopSamples>& s
         const Eigen::Vector3d original = positions[v];
         const std::optional<Badness> start = badness(v);
         if (!start) continue;
+        // How far the loop strays from the sample's two edges, with the sample at s.
+        const auto chordDeviation = [&](double s) {
+          return std::max(index.farthestFromChord(loop.loop, before, s).distance,
+                          index.farthestFromChord(loop.loop, s, after).distance);
+        };
+        const double allowed =
+            std::max(kChordDeviation * loop.spacing, chordDeviation(loop.arc[k]));
         double bestArc = loop.arc[k];
         Badness best = *start;
         for (int c = 0; c <= kCandidates; ++c) {
           const double s = lower + (upper - lower) * c / kCandidates;
+          if (chordDeviation(s) > allowed) continue;
           const double wrapped = s - length * std::floor(s / length);
           positions[v] = index.pointAt(loop.loop, wrapped);
           const std::optional<Badness> b = badness(v);

@@ -76,6 +76,13 @@ class BoundaryIndex {
   /// Nearest point of loop i to p, by a scan of the loop's segments.
   Hit nearestOnLoop(const Eigen::Vector3d& p, int i) const;
 
+  /// The point of loop i strictly between arc lengths `from` < `to` (unwrapped: `to` may exceed
+  /// the loop's length by up to one loop) farthest from the chord pointAt(from)–pointAt(to):
+  /// its distance from the chord and its arc length in [0, loopLength(i)). The loop's own
+  /// points are the candidates (the polyline is straight between them); loop = −1 when there
+  /// are none.
+  Hit farthestFromChord(int i, double from, double to) const;
+
   int loopCount() const { return static_cast<int>(loops_.size()); }
   const std::vector<Eigen::Vector3d>& loop(int i) const { return loops_[i]; }
   double loopLength(int i) const { return arcs_[i].back(); }
@@ -119,8 +126,10 @@ struct LoopSamples {
 /// 0.3 spacings away, so samples never crowd), to the best of 16 evenly spaced positions: the
 /// one whose triangles in `region` have the smallest largest angleBadness (fan_geometry.h; ties:
 /// the smallest sum of the squared deviations of the angles from 60°), none
-/// turned against its normal before the slide. Two passes; the output boundary stays on the input boundary. Updates `positions`
-/// and the samples' arcs; returns the number of moves.
+/// turned against its normal before the slide, among the positions where the input loop stays
+/// within a quarter spacing of the sample's two edges (or no farther than before the slide).
+/// Two passes; the output boundary stays on the input boundary. Updates `positions` and the
+/// samples' arcs; returns the number of moves.
 int slideBoundarySamples(const BoundaryIndex& index, std::vector<LoopSamples>& samples,
                          const std::vector<Triangle>& region, std::vector<Eigen::Vector3d>& positions);
 

@@ -205,5 +205,45 @@ TEST(BoundarySlides, RaiseASmallAngleAtACornerWithinTheFloors) {
   EXPECT_NEAR(positions[4].y(), 0.0, 1e-12) << "on the boundary";
 }
 
+// The loop point farthest from a chord between two arc lengths, across the loop's start too.
+TEST(BoundaryIndexChords, FindTheLoopPointFarthestFromAChord) {
+  const std::vector<Eigen::Vector3d> square = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  const BoundaryIndex index({square}, 0.5);
+  const BoundaryIndex::Hit corner = index.farthestFromChord(0, 0.5, 1.5);  // (0.5,0)–(1,0.5)
+  EXPECT_EQ(corner.loop, 0);
+  EXPECT_NEAR(corner.distance, std::sqrt(0.125), 1e-12);
+  EXPECT_NEAR(corner.arc, 1.0, 1e-12);
+  const BoundaryIndex::Hit wrapped = index.farthestFromChord(0, 3.5, 4.5);  // around (0, 0)
+  EXPECT_NEAR(wrapped.distance, std::sqrt(0.125), 1e-12);
+  EXPECT_NEAR(wrapped.arc, 0.0, 1e-12);
+  EXPECT_EQ(index.farthestFromChord(0, 0.25, 0.75).loop, -1) << "no loop point in between";
+}
+
+// A loop that bulges 0.4 spacings out between two corners, with a sample on the bulge's tip and
+// a front vertex off to the left: the angles alone would slide the sample 0.34 spacings down
+// the bulge's right side, and its edge from the left corner would cut 0.27 spacings into the
+// bulge (venus_1k's base lost 0.35 edge lengths that way: 2.5% Hausdorff distance). The slide
+// keeps the loop within 0.25 spacings of the sample's edges.
+TEST(BoundarySlides, KeepTheLoopCloseToTheSamplesEdges) {
+  const std::vector<Eigen::Vector3d> loop = {
+      {0, 0, 0}, {0.5, -0.4, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  const BoundaryIndex index({loop}, 0.5);
+  std::vector<Eigen::Vector3d> positions = loop;
+  positions.push_back({0.5, -0.4, 0});  // 5: the sample, on the tip
+  positions.push_back({-0.2, 0.3, 0});  // 6: the front vertex
+  const std::vector<Triangle> region = {{0, 5, 6}, {5, 2, 6}};
+  const double tip = loop[1].norm();
+  std::vector<LoopSamples> samples = {{0,
+                                       1.0,
+                                       {0, 5, 2, 3, 4},
+                                       {0.0, tip, 2 * tip, 2 * tip + 1, 2 * tip + 2},
+                                       {true, false, true, true, true}}};
+  slideBoundarySamples(index, samples, region, positions);
+  const double s = samples[0].arc[1];
+  EXPECT_LE(index.farthestFromChord(0, 0.0, s).distance, 0.25 + 1e-12);
+  EXPECT_LE(index.farthestFromChord(0, s, 2 * tip).distance, 0.25 + 1e-12);
+  EXPECT_TRUE(positions[5].isApprox(index.pointAt(0, s))) << "on the boundary";
+}
+
 }  // namespace
 }  // namespace hexcover::extract_detail
