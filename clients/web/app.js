@@ -162,6 +162,20 @@ function showMetrics(metrics) {
   }
 }
 
+/**
+ * The remesh's warnings (what the user may act on: a vertex count missed, a part lost), one
+ *  item each above the metrics; hidden when there are none.
+ */
+function showWarnings(warnings) {
+  const list = $('warnings');
+  list.replaceChildren(...warnings.map((text) => {
+    const item = document.createElement('li');
+    item.textContent = text;
+    return item;
+  }));
+  list.hidden = warnings.length === 0;
+}
+
 /** One row per result mesh with a link per format, from the job's `links.results`. */
 function showDownloads(job) {
   const body = $('downloads').tBodies[0];
@@ -194,6 +208,7 @@ async function showResults(job, rosy) {
     objOf('hexagons'),
     objOf('textured'),
   ]);
+  showWarnings(metrics.warnings ?? []);
   showMetrics(metrics);
   showDownloads(job);
   const irregular = viewer.setRemesh(parseObj(text(triangles)), rosy);

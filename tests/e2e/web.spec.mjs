@@ -3,7 +3,8 @@
 //   load the page, upload a mesh, wait for the job to succeed and the viewer to show it; check the
 //   metrics table against GET /v1/jobs/{id}/metrics, the irregular-vertex counts computed by the
 //   page against the metrics, every download link, and that both halves of the WebGL canvas show
-//   a model; save a screenshot of the page.
+//   a model; save a screenshot of the page; a second job at a vertex count too small for the mesh
+//   lists its warnings.
 // usage: node web.spec.mjs --server BIN --mesh MESH --screenshot PNG
 // Exit status 0 pass, 1 fail, 77 skipped (no Chromium, or no test mesh: the message says which).
 
@@ -130,6 +131,13 @@ try {
   }
   console.log(`metrics table: ${rows.length} rows agree with the metrics document`);
 
+  // The warnings list shows the metrics' warnings, one item each, and is hidden without any.
+  const warnings = await page.$$eval('#warnings li', (lis) => lis.map((li) => li.textContent));
+  assert.deepEqual(warnings, metrics.warnings, 'warnings list = metrics warnings');
+  assert.equal(await page.evaluate(() => document.getElementById('warnings').hidden), warnings.length === 0,
+    'the warnings list is hidden exactly when there are none');
+  console.log(`warnings: ${warnings.length} shown`);
+
   // The page's own valence count (from the downloaded OBJ) agrees with the server's.
   const countOf = async (id) => Number((await page.textContent(id)).split(':')[1]);
   const pageIrregular = (await countOf('#count-below')) + (await countOf('#count-above'));
@@ -168,6 +176,23 @@ try {
   fs.mkdirSync(path.dirname(args.screenshot), { recursive: true });
   await page.screenshot({ path: args.screenshot });
   console.log(`screenshot: ${args.screenshot}`);
+
+  // A second job at 20 vertices, fewer than the shape allows: its warnings (the count missed,
+  // and why) are listed above the metrics.
+  await page.fill('#target-value', '20');
+  await page.click('#submit');
+  await page.waitForFunction(
+    (first) => (document.body.dataset.state === 'shown' && document.body.dataset.jobId !== first) ||
+      document.getElementById('status').classList.contains('error'),
+    jobId, { timeout: kJobTimeoutMs, polling: 250 });
+  const coarseId = await page.getAttribute('body', 'data-job-id');
+  assert.notEqual(coarseId, jobId, `second job did not succeed: ${await page.textContent('#status')}`);
+  const coarse = await (await fetch(`${server.url}/v1/jobs/${coarseId}/metrics`)).json();
+  const coarseWarnings = await page.$$eval('#warnings li', (lis) => lis.map((li) => li.textContent));
+  assert.ok(coarse.warnings.length > 0, 'a remesh at 20 vertices has warnings');
+  assert.deepEqual(coarseWarnings, coarse.warnings, 'warnings list = metrics warnings');
+  assert.equal(await page.evaluate(() => document.getElementById('warnings').hidden), false);
+  console.log(`warnings at 20 vertices: ${coarseWarnings.length} shown`);
   assert.deepEqual(pageErrors, [], 'no uncaught errors in the page');
   console.log('PASS');
 } catch (error) {
