@@ -164,7 +164,7 @@ function showMetrics(metrics) {
 
 /**
  * The remesh's warnings (what the user may act on: a vertex count missed, a part lost), one
- *  item each above the metrics; hidden when there are none.
+ * item each above the metrics; hidden when there are none.
  */
 function showWarnings(warnings) {
   const list = $('warnings');
