@@ -110,6 +110,7 @@ remesh() {
     done
   fi
   api GET "/v1/jobs/$id/metrics"
+  jq -r '.warnings[]? | "warning: \(.)"' "$body" >&2
   jq . "$body"
 }
 

@@ -203,7 +203,10 @@ def _remesh(client: Client, args: argparse.Namespace) -> int:
             path = os.path.join(args.out, f"{stem}-{mesh}.{fmt}")
             size = client.download(job["id"], path, mesh=mesh, format=fmt)
             print(f"wrote {path} ({size} bytes)", file=sys.stderr)
-    json.dump(client.metrics(job["id"]), sys.stdout, indent=2)
+    metrics = client.metrics(job["id"])
+    for warning in metrics.get("warnings", []):
+        print(f"warning: {warning}", file=sys.stderr)
+    json.dump(metrics, sys.stdout, indent=2)
     print()
     return 0
 

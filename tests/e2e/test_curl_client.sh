@@ -60,6 +60,13 @@ check "OFF header counts = metrics" \
 "$client" download "$id" "$work/one.ply" >/dev/null 2>&1
 check "download by extension writes a PLY" test "$(head -c 3 "$work/one.ply")" = ply
 
+# 5 vertices are fewer than a closed lattice of the sphere takes: each warning goes to stderr.
+"$client" remesh "$work/sphere.obj" --vertices 5 --timeout 150 >"$work/few.json" 2>"$work/few.err"
+check "a remesh at 5 vertices exits 0" test $? -eq 0
+check "and has warnings" test "$(jq '.warnings | length' "$work/few.json")" -gt 0
+check "each of them on stderr" \
+  test "$(jq -r '.warnings[] | "warning: \(.)"' "$work/few.json")" = "$(grep '^warning: ' "$work/few.err")"
+
 printf 'not a mesh\n' >"$work/junk.obj"
 "$client" remesh "$work/junk.obj" --timeout 60 >"$work/junk.out" 2>"$work/junk.err"
 check "a refused file exits 1" test $? -eq 1

@@ -188,6 +188,15 @@ class PythonClientTest(unittest.TestCase):
         with open(os.path.join(out, "icosphere-triangles.glb"), "rb") as glb:
             self.assertEqual(glb.read(4), b"glTF")
 
+    def test_cli_remesh_prints_the_warnings_on_stderr(self):
+        # 5 vertices are fewer than a closed lattice of the sphere takes: the count is missed.
+        result = self.run_cli("remesh", self.mesh, "--vertices", "5", "--timeout", str(JOB_TIMEOUT))
+        self.assertEqual(result.returncode, 0, result.stderr)
+        warnings = json.loads(result.stdout)["warnings"]
+        self.assertTrue(warnings)
+        for warning in warnings:
+            self.assertIn(f"warning: {warning}\n", result.stderr)
+
     def test_module_reports_progress_until_success(self):
         client = self.client
         job = client.submit(self.mesh, edge_length=0.25)
