@@ -161,15 +161,19 @@ BoundaryIndex::Hit BoundaryIndex::farthestFromChord(int i, double from, double t
   const auto wrapped = [&](double s) { return s - length * std::floor(s / length); };
   const Eigen::Vector3d a = pointAt(i, wrapped(from)), b = pointAt(i, wrapped(to));
   Hit farthest;
-  // The loop's points at unwrapped arc lengths arc[k] + j·length inside (from, to).
-  const double start = std::floor(from / length) * length;
-  for (double offset = start; offset < to; offset += length)
-    for (std::size_t k = 0; k < points.size(); ++k) {
-      const double s = offset + arc[k];
-      if (!(s > from && s < to)) continue;
-      const double d = (a + closestOnSegment(points[k], a, b) * (b - a) - points[k]).norm();
-      if (farthest.loop < 0 || d > farthest.distance) farthest = {i, d, arc[k]};
+  // The loop's points at unwrapped arc lengths arc[k] + offset inside (from, to), offset a
+  // multiple of the length; arc[0 .. points.size()) is ascending, so each period is one range.
+  // (The search starts one point early: the test below is the exact one.)
+  const auto pointArcs = arc.begin() + static_cast<std::ptrdiff_t>(points.size());
+  for (double offset = std::floor(from / length) * length; offset < to; offset += length) {
+    auto k = std::upper_bound(arc.begin(), pointArcs, from - offset);
+    for (k = k == arc.begin() ? k : k - 1; k != pointArcs && offset + *k < to; ++k) {
+      if (!(offset + *k > from)) continue;
+      const Eigen::Vector3d& p = points[static_cast<std::size_t>(k - arc.begin())];
+      const double d = (a + closestOnSegment(p, a, b) * (b - a) - p).norm();
+      if (farthest.loop < 0 || d > farthest.distance) farthest = {i, d, *k};
     }
+  }
   if (farthest.loop < 0) farthest.distance = 0.0;
   return farthest;
 }
