@@ -133,37 +133,37 @@ struct Remeshing {
   int misses = 0;  ///< runs that did not keep the input's topology or shape
 };
 
-/// The result's warnings (RemeshResult::warnings) about the remesh `chosen` (already moved into
-/// `result`: its run's flags and count error are read here).
-std::vector<std::string> remeshWarnings(const RemeshResult& result, const Remeshing& chosen,
-                                        const RemeshOptions& options) {
+/// The result's warnings (RemeshResult::warnings) about the remesh `chosen`.
+std::vector<std::string> remeshWarnings(const Remeshing& chosen, const RemeshOptions& options) {
+  const LatticeRun& run = chosen.best;
+  const double h = run.param.edgeLength;
   std::vector<std::string> warnings;
-  const long long copied = result.remesh.report.componentsKept;
+  const long long copied = run.remesh.report.componentsKept;
   if (copied > 0) {
     std::ostringstream text;
     text << copied << (copied == 1 ? " input component was" : " input components were")
-         << " copied unchanged: the lattice at edge length " << std::setprecision(3)
-         << result.edgeLength << " does not fit " << (copied == 1 ? "it" : "them")
+         << " copied unchanged: the lattice at edge length " << std::setprecision(3) << h
+         << " does not fit " << (copied == 1 ? "it" : "them")
          << " (too small, or too thin for this vertex count); more vertices or a smaller edge "
             "length remesh "
          << (copied == 1 ? "it" : "them");
     warnings.push_back(text.str());
   }
-  if (result.flippedParamTriangles > 0)
-    warnings.push_back(std::to_string(result.flippedParamTriangles) +
+  if (run.param.flippedTriangles > 0)
+    warnings.push_back(std::to_string(run.param.flippedTriangles) +
                        " parameter triangles stayed folded; the extraction filled the gaps, which "
                        "puts irregular vertices away from the singularities there (another "
                        "vertex count may avoid it)");
-  if (!chosen.best.shapeKept) {
+  if (!run.shapeKept) {
     std::ostringstream text;
     text << "a part of the input was lost: an input vertex is " << std::setprecision(3)
-         << chosen.best.farthestInput / result.edgeLength
-         << " edge lengths from the remesh (a part too thin for the lattice at edge length "
-         << result.edgeLength << "); more vertices or a smaller edge length keep it";
+         << run.farthestInput / h
+         << " edge lengths from the remesh (a part too thin for the lattice at edge length " << h
+         << "); more vertices or a smaller edge length keep it";
     warnings.push_back(text.str());
   }
-  if (options.targetVertices && chosen.best.countError > 0.1) {
-    const auto vertices = static_cast<long long>(result.remesh.triangles.n_vertices());
+  if (options.targetVertices && run.countError > 0.1) {
+    const auto vertices = static_cast<long long>(run.remesh.triangles.n_vertices());
     const bool moreForShape =
         chosen.misses > 0 && copied == 0 && vertices > *options.targetVertices;
     warnings.push_back("the remesh has " + std::to_string(vertices) +
@@ -418,11 +418,11 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
     }
   }
   result.singularities = field.singularities;
+  result.warnings = remeshWarnings(chosen, options);
   Parameterization param = std::move(chosen.best.param);
   result.remesh = std::move(chosen.best.remesh);
   result.edgeLength = param.edgeLength;
   result.flippedParamTriangles = param.flippedTriangles;
-  result.warnings = remeshWarnings(result, chosen, options);
   context.throwIfCanceled();
 
   // Textured input and metrics.
