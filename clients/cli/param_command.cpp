@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -19,7 +20,6 @@
 #include "clients/cli/commands.h"
 #include "core/field/rosy_field.h"
 #include "core/geometry/curvature.h"
-#include "core/geometry/sharp_edges.h"
 #include "core/mesh/io.h"
 #include "core/mesh/load.h"
 #include "core/mesh/refine.h"
@@ -114,13 +114,10 @@ int runParam(int argc, char** argv) {
   // K = 2000: 4.1° -> 1.9°, a plate with a hole 8.2° -> 4.3°; fandisk keeps all of its creases,
   // 3.2° against 3.3°).
   std::string creases = field.sharpEdges.empty() ? "none" : "all";
-  if (!field.sharpEdges.empty() &&
-      latticeCompatibleCreases(mesh, field.sharpEdges, n) != field.sharpEdges) {
-    FieldOptions compatibleOptions = fieldOptions;
-    compatibleOptions.compatibleCreasesOnly = true;
-    const RosyField compatibleField = computeRosyField(mesh, compatibleOptions);
-    fieldSeconds += compatibleField.seconds;
-    Parameterization compatible = computeParameterization(mesh, compatibleField, options);
+  if (const std::optional<RosyField> compatibleField =
+          computeCompatibleCreaseField(mesh, field, fieldOptions)) {
+    fieldSeconds += compatibleField->seconds;
+    Parameterization compatible = computeParameterization(mesh, *compatibleField, options);
     const auto faults = [](const Parameterization& p) {
       return std::make_tuple(p.flippedTriangles, p.distortion.angleMean);
     };

@@ -412,4 +412,15 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
   return result;
 }
 
+std::optional<RosyField> computeCompatibleCreaseField(const TriMesh& mesh, const RosyField& field,
+                                                      const FieldOptions& options,
+                                                      const RunContext& context) {
+  if (field.sharpEdges.empty() ||
+      latticeCompatibleCreases(mesh, field.sharpEdges, field.n) == field.sharpEdges)
+    return std::nullopt;
+  FieldOptions compatible = options;
+  compatible.compatibleCreasesOnly = true;
+  return computeRosyField(mesh, compatible, context);
+}
+
 }  // namespace hexcover

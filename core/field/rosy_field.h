@@ -40,6 +40,7 @@
 //   failure is a bug and throws std::logic_error.
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -152,6 +153,15 @@ struct FieldOptions {
 /// Error(NumericalFailure) if a factorization fails, Error(Canceled) when `context` asks.
 RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options = {},
                            const RunContext& context = {});
+
+/// The field along only the creases that a lattice of `field`'s symmetry can follow together
+/// (`options` with compatibleCreasesOnly, core/geometry/sharp_edges.h latticeCompatibleCreases),
+/// when `field`, computed with `options`, follows others too (a box's creases meeting at 90°);
+/// nullopt when it follows no crease or only compatible ones. The remesh pipeline and
+/// `hexcover param` parameterize along both and keep the better result.
+std::optional<RosyField> computeCompatibleCreaseField(const TriMesh& mesh, const RosyField& field,
+                                                      const FieldOptions& options,
+                                                      const RunContext& context = {});
 
 /// Builds a RosyField from given per-face representative directions (#F vectors, any tangent
 /// vectors: they are projected to the face plane and normalized): computes the matchings and the

@@ -13,7 +13,6 @@
 #include "core/common/memory.h"
 #include "core/geometry/closest_point.h"
 #include "core/geometry/curvature.h"
-#include "core/geometry/sharp_edges.h"
 #include "core/mesh/refine.h"
 #include "core/mesh/repair.h"
 #include "core/mesh/topology.h"
@@ -383,15 +382,13 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   constexpr double kGoalHausdorffPct = 0.5;
   const TriMesh& reference = unrefined ? *unrefined : mesh;
   std::optional<QualityReport> metrics;
-  if (!field.sharpEdges.empty() &&
-      latticeCompatibleCreases(mesh, field.sharpEdges, field.n) != field.sharpEdges) {
-    auto start = Clock::now();
-    FieldOptions compatibleOptions = fieldOptions;
-    compatibleOptions.compatibleCreasesOnly = true;
-    RosyField compatibleField = computeRosyField(mesh, compatibleOptions, context);
+  auto start = Clock::now();
+  std::optional<RosyField> compatibleField =
+      computeCompatibleCreaseField(mesh, field, fieldOptions, context);
+  if (compatibleField) {
     addTiming(result.timings, "field", secondsSince(start));
     context.throwIfCanceled();
-    Remeshing compatible = remeshAlongField(compatibleField, runs, result.timings, context);
+    Remeshing compatible = remeshAlongField(*compatibleField, runs, result.timings, context);
     result.sizeIterations += compatible.runs;
     // What comes before the shape: the topology, no part lost, the components copied, the
     // vertex count.
@@ -414,7 +411,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
     }
     if (takeCompatible) {
       chosen = std::move(compatible);
-      field = std::move(compatibleField);
+      field = std::move(*compatibleField);
     }
   }
   result.singularities = field.singularities;
