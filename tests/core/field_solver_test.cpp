@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <optional>
 
 #include "core/common/error.h"
 #include "core/field/clustering.h"
@@ -177,6 +178,27 @@ TEST(FieldSolver, CreaseConstraintsAlignTheFieldWithTheEdgesOfABox) {
   const RosyField free = computeRosyField(box, options);
   EXPECT_TRUE(free.sharpEdges.empty());
   EXPECT_GT(meanCreaseMisalignmentDegrees(box, free, aligned.sharpEdges), 2.0 * withCreases);
+}
+
+// The box's 12 crease lines meet at 90°: the second field follows only the four parallel lines
+// along x, which a hexagonal lattice can follow together, and those lines closely. A square
+// lattice follows all twelve, and a smooth sphere has no creases: no second field for either.
+TEST(FieldSolver, ASecondFieldFollowsOnlyTheCreasesALatticeCanFollowTogether) {
+  const TriMesh box = makeBox(1.0, 0.8, 0.6, 12);
+  FieldOptions options;
+  options.sharpEdgeAngle = 60.0;
+  const RosyField all = computeRosyField(box, options);
+  const std::optional<RosyField> compatible = computeCompatibleCreaseField(box, all, options);
+  ASSERT_TRUE(compatible.has_value());
+  EXPECT_EQ(std::count(compatible->sharpEdges.begin(), compatible->sharpEdges.end(), true), 4 * 12);
+  EXPECT_EQ(indexSum(*compatible), 2 * 6);
+  EXPECT_LT(meanCreaseMisalignmentDegrees(box, *compatible, compatible->sharpEdges), 5.0);
+
+  FieldOptions square = options;
+  square.n = 4;
+  EXPECT_FALSE(computeCompatibleCreaseField(box, computeRosyField(box, square), square));
+  const TriMesh sphere = makeIcosphere(3);
+  EXPECT_FALSE(computeCompatibleCreaseField(sphere, computeRosyField(sphere, options), options));
 }
 
 /// `mesh` with every triangle split into four at its edges' midpoints, `levels` times.
