@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <vector>
 
 #include "core/extract/fan_geometry.h"
@@ -45,20 +46,22 @@ TriMesh makeRoof() {
   return mesh;
 }
 
-/// Mean distance from the points to the mesh.
-double meanDistance(const std::vector<Vec3>& points, const TriMesh& mesh) {
+/// Distance from each point to the mesh.
+std::vector<double> distances(const std::vector<Vec3>& points, const TriMesh& mesh) {
   const ClosestPointQuery query(mesh);
-  double total = 0.0;
-  for (const Vec3& p : points) total += query.closest(p).distance;
-  return total / static_cast<double>(points.size());
+  std::vector<double> result;
+  for (const Vec3& p : points) result.push_back(query.closest(p).distance);
+  return result;
 }
 
-/// Largest distance from the points to the mesh.
+double meanDistance(const std::vector<Vec3>& points, const TriMesh& mesh) {
+  const std::vector<double> d = distances(points, mesh);
+  return std::accumulate(d.begin(), d.end(), 0.0) / static_cast<double>(d.size());
+}
+
 double largestDistance(const std::vector<Vec3>& points, const TriMesh& mesh) {
-  const ClosestPointQuery query(mesh);
-  double largest = 0.0;
-  for (const Vec3& p : points) largest = std::max(largest, query.closest(p).distance);
-  return largest;
+  const std::vector<double> d = distances(points, mesh);
+  return *std::max_element(d.begin(), d.end());
 }
 
 std::vector<std::array<int, 3>> faceCorners(const TriMesh& mesh) {
