@@ -87,6 +87,7 @@ nlohmann::json metricsDocument(const RemeshResult& result) {
                         {"uncovered_triangles", r.uncoveredTriangles},
                         {"overlapping_triangles", r.overlappingTriangles},
                         {"holes_filled", r.holesFilled},
+                        {"lattice_point_copies_merged", r.latticePointCopiesMerged},
                         {"unmatched_boundary_loops", r.unmatchedBoundaryLoops},
                         {"components_kept", r.componentsKept},
                         {"components_kept_for_topology", r.componentsKeptForTopology},

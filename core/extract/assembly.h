@@ -56,6 +56,16 @@ void fillGap(const std::vector<int>& loop, Assembly& out, std::vector<Triangle>&
 /// the holes this leaves are filled (only their stretches off the output boundary).
 void repairNonManifold(Assembly& out, ExtractionReport& report);
 
+/// Step 4, last: collapses each interior edge far shorter than the other edges of its two triangles
+/// (kCopyEdgeRatio) whose collapse makes the valences of its four vertices more regular: the
+/// two ends are copies of one lattice point, where the rounding put two singularities (spot's
+/// horn: two +1/6 singularities 0.27 edge lengths apart leave a hole whose diagonal is 0.18 of
+/// its sides; the diagonal fill gave two valence-4 and two valence-7 vertices, the merged point
+/// is the +2/6 cone's one valence-4 vertex). Only where the two ends share exactly the two
+/// apexes as neighbours (the collapse keeps the surface manifold); the merged vertex lies at the
+/// edge's midpoint. Returns the number of collapses.
+long long collapseLatticePointCopies(Assembly& out);
+
 /// Step 6: an input component is copied unchanged when no lattice triangle fits on it, or (Follow
 /// mode) when its lattice triangles do not have its topology (Euler characteristic, boundary
 /// loops, one piece): a component too small for the lattice, or one whose remesh would close a

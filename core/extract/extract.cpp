@@ -85,6 +85,7 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     dropDegenerateAndOverlapping(out.triangles, report);
     if (componentCount > 0) closeBoundaries(mesh, faceComponent, options, out, report);
     repairNonManifold(out, report);
+    report.latticePointCopiesMerged = collapseLatticePointCopies(out);
     keepComponentsTooSmallForTheLattice(mesh, faceComponent, componentCount, options, out, report);
     result.triangles = buildMesh(out, report);
   }

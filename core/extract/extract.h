@@ -21,7 +21,10 @@
 //    parameter triangles (applying transitions). Triangles whose walk leaves the surface are cut by
 //    the boundary; walks through flipped or degenerate parameter triangles are coverage gaps.
 // 4. Repair: triangles covered more than once are dropped after the first; holes that do not
-//    touch the input boundary (coverage gaps near folds or singularities) are filled locally.
+//    touch the input boundary (coverage gaps near folds or singularities) are filled locally;
+//    an interior edge far shorter than its triangles' other edges, between two copies of one
+//    lattice point (two singularities the rounding put on one point), is collapsed when that
+//    makes the valences more regular: a +2/6 cone becomes one valence-4 vertex.
 // 5. Boundary (BoundaryMode::Follow): lattice vertices closer than `boundarySnapDistance` edge
 //    lengths to the input boundary are removed, each input boundary loop is resampled (keeping
 //    corners sharper than `sharpBoundaryAngle`) and the strip between it and the lattice front is
@@ -127,6 +130,8 @@ struct ExtractionReport {
   long long boundarySliverFlips = 0;   ///< step 8: flips of slivers at the output boundary
   long long nonManifoldVertices = 0;   ///< vertices with several fans, re-triangulated locally
   long long nonManifoldFacesDropped = 0;  ///< faces OpenMesh still refused (would be non-manifold)
+  /// Step 4: short edges between two copies of one lattice point, collapsed.
+  long long latticePointCopiesMerged = 0;
   Timings timings;
 };
 
