@@ -220,11 +220,16 @@ long long collapseLatticePointCopies(Assembly& out) {
   // feline and spot at V/4 and V/16).
   constexpr double kCopyEdgeRatio = 0.3;
   const DirectedEdges edges(out.triangles);
-  const std::vector<int> valence = vertexValences(out);
+  // u's neighbours, sorted: the ends and apexes of its edges (a vertex on the soup's boundary
+  // has one neighbour that only an apex names).
   const auto neighbours = [&](int u) {
     std::vector<int> list;
-    for (int e = edges.begin(u); e < edges.end(u); ++e) list.push_back(edges.to(e));
+    for (int e = edges.begin(u); e < edges.end(u); ++e) {
+      list.push_back(edges.to(e));
+      list.push_back(edges.apex(e));
+    }
     std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
     return list;
   };
   // Interior: every edge at u has its reverse (u's triangles close up around it).
@@ -253,12 +258,13 @@ long long collapseLatticePointCopies(Assembly& out) {
       const double others = 0.25 * ((p[u] - p[a]).norm() + (p[v] - p[a]).norm() +
                                     (p[u] - p[b]).norm() + (p[v] - p[b]).norm());
       if (!((p[u] - p[v]).norm() < kCopyEdgeRatio * others)) continue;
-      // (u, v) → one vertex of valence val(u) + val(v) − 4; a and b lose an edge each.
-      if (irregularity(valence[u] + valence[v] - 4, 6, valence[a] - 1, valence[b] - 1) >=
-          irregularity(valence[u], valence[v], valence[a], valence[b]))
-        continue;
-      std::vector<int> shared;
       const std::vector<int> nu = neighbours(u), nv = neighbours(v);
+      const auto valence = [&](int w) { return static_cast<int>(neighbours(w).size()); };
+      const int vu = static_cast<int>(nu.size()), vv = static_cast<int>(nv.size());
+      const int va = valence(a), vb = valence(b);
+      // (u, v) → one vertex of valence val(u) + val(v) − 4; a and b lose an edge each.
+      if (irregularity(vu + vv - 4, 6, va - 1, vb - 1) >= irregularity(vu, vv, va, vb)) continue;
+      std::vector<int> shared;
       std::set_intersection(nu.begin(), nu.end(), nv.begin(), nv.end(), std::back_inserter(shared));
       if (shared != std::vector<int>{std::min(a, b), std::max(a, b)}) continue;
       out.positions[u] = 0.5 * (p[u] + p[v]);
