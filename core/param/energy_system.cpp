@@ -300,8 +300,15 @@ Eigen::VectorXd EnergySystem::withReals(const Eigen::VectorXd& integers) const {
   return x;
 }
 
+namespace {
+constexpr double kResponseCacheBudget = 8e6;  // doubles: 64 MB
+}  // namespace
+
+std::size_t EnergySystem::responseCapacity() const {
+  return realCount_ > 0 ? static_cast<std::size_t>(kResponseCacheBudget / realCount_) : 0;
+}
+
 std::vector<const Eigen::VectorXd*> EnergySystem::realResponses(const std::vector<int>& columns) {
-  constexpr double kResponseCacheBudget = 8e6;  // 64 MB
   std::vector<int> unsolved;
   for (const int column : columns)
     if (!solvedResponses_.count(column) &&

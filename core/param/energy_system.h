@@ -68,6 +68,8 @@ class EnergySystem {
   /// are kept until the weights change, within kResponseCacheBudget doubles (those of this call
   /// always); the pointers stay valid until the next call.
   std::vector<const Eigen::VectorXd*> realResponses(const std::vector<int>& columns);
+  /// How many columns realResponses keeps at most (kResponseCacheBudget doubles).
+  std::size_t responseCapacity() const;
 
   /// Σ_f A_f |rows_f x − target_f|² (energy (4) plus the anisotropy rows, unit face weights)
   /// plus the crease rows at their weights.

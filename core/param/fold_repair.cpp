@@ -131,6 +131,12 @@ void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u, E
     // one by one.
     constexpr std::size_t kUnitWindow = 4;
     const std::vector<int> order(involved.begin(), involved.end());
+    // The responses of every unit of the pass in one solve with many right-hand sides, when
+    // they fit in the cache: far cheaper per column than a solve per window.
+    std::vector<int> passColumns;
+    for (const int unit : order)
+      passColumns.insert(passColumns.end(), units[unit].begin(), units[unit].end());
+    if (passColumns.size() <= system.responseCapacity()) system.realResponses(passColumns);
     const int realCount = u.realCount;
     bool improved = false;
     for (std::size_t nextUnit = 0; nextUnit < order.size();) {

@@ -45,7 +45,8 @@ Orientation countOrientation(const TriMesh& mesh, const CutMesh& cm, const Snapp
 /// the rounding (typically two singularities rounded onto the same lattice point, or next to each
 /// other). For the integer unknowns that the corners of flipped or degenerate triangles depend
 /// on, try moving each to a neighbouring lattice point (its effect on the minimizer is linear: one
-/// back-substitution per unknown with the last factorization) and keep a move when it leaves fewer
+/// back-substitution per unknown with the last factorization, those of a pass in one solve when
+/// they fit in the system's response cache) and keep a move when it leaves fewer
 /// flipped triangles, or as many and fewer degenerate ones. At most four passes over at most 32
 /// units each; the trial moves are judged on up to `threads` threads, with the same result.
 /// x, snapped, orientation and flippedFaces describe the solution before and after.
