@@ -46,9 +46,9 @@ Orientation countOrientation(const TriMesh& mesh, const CutMesh& cm, const Snapp
 /// other). For the integer unknowns that the corners of flipped or degenerate triangles depend
 /// on, try moving each to a neighbouring lattice point (its effect on the minimizer is linear: one
 /// back-substitution per unknown with the last factorization, those of a pass in one solve when
-/// they fit in the system's response cache) and keep a move when it leaves fewer
-/// flipped triangles, or as many and fewer degenerate ones. At most four passes over at most 32
-/// units each; the trial moves are judged on up to `threads` threads, with the same result.
+/// they fit in the system's response cache) and keep a move when it leaves fewer flipped
+/// triangles, or as many and fewer degenerate ones. At most four passes over at most 32 units
+/// each; the trial moves are judged on up to `threads` threads, with the same result.
 /// x, snapped, orientation and flippedFaces describe the solution before and after.
 void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u, EnergySystem& system,
                     int n, int threads, Eigen::VectorXd& x, SnappedCoordinates& snapped,
