@@ -8,6 +8,9 @@ namespace {
 
 using VH = TriMesh::VertexHandle;
 
+/// A triangle with a repeated corner (no area, no orientation).
+bool hasRepeatedCorner(const Triangle& t) { return t[0] == t[1] || t[1] == t[2] || t[2] == t[0]; }
+
 /// Vertices whose triangles do not form a single fan: their link (the edge opposite the vertex
 /// in each triangle) is not one path or one cycle.
 std::vector<int> nonManifoldVertices(const std::vector<Triangle>& triangles,
@@ -139,7 +142,7 @@ void dropDegenerateAndOverlapping(std::vector<Triangle>& triangles, ExtractionRe
   kept.reserve(triangles.size());
   for (std::size_t i = 0; i < triangles.size(); ++i) {
     const Triangle& t = triangles[i];
-    if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) {
+    if (hasRepeatedCorner(t)) {
       ++report.degenerateTriangles;
       continue;
     }
@@ -276,8 +279,7 @@ long long collapseLatticePointCopies(Assembly& out) {
   for (auto& t : out.triangles)
     for (int& w : t)
       if (mergedInto[w] >= 0) w = mergedInto[w];
-  std::erase_if(out.triangles,
-                [](const Triangle& t) { return t[0] == t[1] || t[1] == t[2] || t[2] == t[0]; });
+  std::erase_if(out.triangles, hasRepeatedCorner);
   return collapses;
 }
 

@@ -158,8 +158,7 @@ BoundaryIndex::Hit BoundaryIndex::farthestFromChord(int i, double from, double t
   const auto& arc = arcs_[i];
   const auto& points = loops_[i];
   const double length = arc.back();
-  const auto wrapped = [&](double s) { return s - length * std::floor(s / length); };
-  const Eigen::Vector3d a = pointAt(i, wrapped(from)), b = pointAt(i, wrapped(to));
+  const Eigen::Vector3d a = pointAt(i, wrappedArc(i, from)), b = pointAt(i, wrappedArc(i, to));
   Hit farthest;
   // The loop's points at unwrapped arc lengths arc[k] + offset inside (from, to), offset a
   // multiple of the length; arc[0 .. points.size()) is ascending, so each period is one range.
@@ -476,7 +475,7 @@ int slideBoundarySamples(const BoundaryIndex& index, std::vector<LoopSamples>& s
         for (int c = 0; c <= kCandidates; ++c) {
           const double s = lower + (upper - lower) * c / kCandidates;
           if (chordDeviation(s) > allowed) continue;
-          const double wrapped = s - length * std::floor(s / length);
+          const double wrapped = index.wrappedArc(loop.loop, s);
           positions[v] = index.pointAt(loop.loop, wrapped);
           const std::optional<Badness> b = badness(v);
           if (b && b->betterThan(best)) best = *b, bestArc = wrapped;

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <unordered_map>
@@ -86,6 +87,11 @@ class BoundaryIndex {
   int loopCount() const { return static_cast<int>(loops_.size()); }
   const std::vector<Eigen::Vector3d>& loop(int i) const { return loops_[i]; }
   double loopLength(int i) const { return arcs_[i].back(); }
+  /// Arc length (or a difference of arc lengths) s of loop i taken modulo its length, in
+  /// [0, loopLength(i)).
+  double wrappedArc(int i, double s) const {
+    return s - loopLength(i) * std::floor(s / loopLength(i));
+  }
   /// The point at arc length s ∈ [0, loopLength(i)] of loop i.
   Eigen::Vector3d pointAt(int i, double s) const;
 

@@ -94,7 +94,7 @@ bool stitchFrontByValence(const BoundaryIndex& index, int loop, int component,
     for (int k = first[j] + 1; k < first[j + 1]; ++k)
       arc[k] = arc[first[j]] +
                (arc[first[j + 1]] - arc[first[j]]) * (k - first[j]) / (first[j + 1] - first[j]);
-  const auto wrapped = [&](double a) { return a - length * std::floor(a / length); };
+  const auto wrapped = [&](double a) { return index.wrappedArc(loop, a); };
   // Sharp corners are samples: the nearest sample moves onto each corner, and the samples up to
   // kCornerSpread places away follow a decreasing part of its move, so that the strip's
   // triangles around the corner share the distortion.
@@ -263,7 +263,7 @@ void stitchFront(const BoundaryIndex& index, const std::vector<int>& inputLoopCo
     const int i = order[o];
     const double length = index.loopLength(i);
     const auto [samples, sampleArc] = addSamples(i);
-    const auto wrapped = [&](double d) { return d - length * std::floor(d / length); };
+    const auto wrapped = [&](double d) { return index.wrappedArc(i, d); };
     std::size_t first = 0;
     for (std::size_t k = 1; k < samples.size(); ++k)
       if (std::min(wrapped(sampleArc[k] - entryArc[o]),
@@ -290,8 +290,7 @@ void stitchFront(const BoundaryIndex& index, const std::vector<int>& inputLoopCo
     rotated[k] = front[j];
     const auto [base, startArc] = offsetAndStart.at(label[j]);
     const double length = index.loopLength(label[j]);
-    double d = arc[j] - startArc;
-    d -= length * std::floor(d / length);
+    double d = index.wrappedArc(label[j], arc[j] - startArc);
     if (d > 0.75 * length) d -= length;  // just before the piece's first sample
     param[k] = base + d;
   }
