@@ -101,6 +101,10 @@ try {
 
   const response = await page.goto(`${server.url}/`);
   assert.equal(response.status(), 200, 'GET / serves the page');
+  // Quads (rosy 4) are refused by the API until the extraction builds them: the page must not
+  // offer a choice that always fails.
+  assert.equal(await page.locator('#rosy option[value="4"]').isDisabled(), true, 'quads not offered');
+  assert.equal(await page.locator('#rosy').inputValue(), '6', 'triangles selected');
   await page.setInputFiles('#mesh-file', args.mesh);
   await page.waitForFunction(() => document.getElementById('status').textContent.startsWith('Ready'), null, { timeout: 20_000 });
   const uploadStarted = Date.now();
