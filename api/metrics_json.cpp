@@ -21,6 +21,7 @@ nlohmann::json toJson(const QualityReport& report) {
   nlohmann::json json;
   json["vertices"] = report.vertices;
   json["faces"] = report.faces;
+  json["quads"] = report.quads;
 
   const auto& d = report.distance;
   const nlohmann::json null;

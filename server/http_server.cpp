@@ -34,7 +34,7 @@ constexpr std::size_t kMaxOptionsBytes = 64 << 10;
 constexpr std::size_t kMaxOtherBody = 64 << 10;
 
 constexpr const char* kResultFormats[] = {"obj", "ply", "off", "stl", "glb"};
-constexpr const char* kResultMeshes[] = {"triangles", "hexagons", "textured"};
+constexpr const char* kResultMeshes[] = {"triangles", "quads", "hexagons", "textured"};
 
 struct RouteSpec {
   Route route;
@@ -518,8 +518,8 @@ void HttpServer::installRoutes() {
                 std::end(kResultMeshes))
               throw ApiError(
                   ProblemKind::InvalidOption,
-                  "query parameter 'mesh' must be triangles, hexagons or textured, not '" + mesh +
-                      "'",
+                  "query parameter 'mesh' must be triangles, quads, hexagons or textured, not '" +
+                      mesh + "'",
                   {{"option", "mesh"}});
             const auto job = succeededJob(req.matches[1]);
             const api::ResultFile* result = api::findResult(job, mesh, format);

@@ -111,8 +111,11 @@ JobOutcome PipelineEngine::run(const JobInput& input, const RunContext& context)
   for (const char* format : {"obj", "ply", "off", "stl", "glb"})
     writeResult(triangles, "triangles", format, input.outputDir, outcome.results);
   progress.throwIfCanceled();
+  // The Gauss lattice (rosy 4) gives quads and no hexagonal dual.
+  const bool quads = result.remesh.quads.faceCount() > 0;
   for (const char* format : {"obj", "ply", "off", "stl", "glb"})
-    writeResult(result.remesh.hexDual, "hexagons", format, input.outputDir, outcome.results);
+    writeResult(quads ? result.remesh.quads : result.remesh.hexDual, quads ? "quads" : "hexagons",
+                format, input.outputDir, outcome.results);
   for (const char* format : {"obj", "glb"})
     writeResult(result.textured, "textured", format, input.outputDir, outcome.results);
   progress.report("writing", 1.0);
@@ -123,8 +126,9 @@ JobOutcome PipelineEngine::run(const JobInput& input, const RunContext& context)
   for (const auto& t : result.timings) stages[t.step] = t.seconds;
   metrics["stage_timings"] = stages;
   metrics["singularities"] = singularitiesJson(result.singularities, options.rosy);
-  metrics["hexagons"] = {{"vertices", result.remesh.hexDual.vertexCount()},
-                         {"faces", result.remesh.hexDual.faceCount()}};
+  if (!quads)
+    metrics["hexagons"] = {{"vertices", result.remesh.hexDual.vertexCount()},
+                           {"faces", result.remesh.hexDual.faceCount()}};
   metrics["edge_length"] = result.edgeLength;
   metrics["singularity_distance"] = result.singularityDistance;
   metrics["size_iterations"] = result.sizeIterations;

@@ -1,7 +1,8 @@
 // `hexcover remesh IN -o OUT [--edge-length h | --vertices K] [--rosy 6|4]
-//  [--sizing uniform|curvature] [--placement balanced|on_surface] [--feature-angle DEG] [--hex OUT_HEX]
+//  [--sizing uniform|curvature] [--placement balanced|on_surface] [--feature-angle DEG] [--hex
+//  OUT_HEX]
 //  [--textured OUT_OBJ] [--metrics METRICS.json] [--quiet]`: the whole pipeline (core/pipeline)
-//  on one file.
+//  on one file. With --rosy 4, OUT is the quad-dominant remesh.
 
 #include <unistd.h>
 
@@ -30,6 +31,8 @@ RemeshOptions parseOptions(const Arguments& args) {
     if (*rosy != 6 && *rosy != 4) throw UsageError("--rosy must be 6 or 4");
     options.rosy = static_cast<int>(*rosy);
   }
+  if (options.rosy == 4 && args.has("--hex"))
+    throw UsageError("--hex writes the hexagonal dual of a triangle remesh; --rosy 4 gives quads");
   // Enumerated options take the words of the API (api/options_json.h).
   const auto enumerated = [&](const std::string& flag, const auto& words, auto& target) {
     const auto word = args.value(flag);
@@ -98,7 +101,11 @@ nlohmann::json metricsDocument(const RemeshResult& result) {
                         {"balanced_vertices", r.balancedVertices},
                         {"boundary_sliver_collapses", r.boundarySliverCollapses},
                         {"boundary_sliver_flips", r.boundarySliverFlips},
-                        {"non_manifold_faces_dropped", r.nonManifoldFacesDropped}};
+                        {"non_manifold_faces_dropped", r.nonManifoldFacesDropped},
+                        {"lattice_squares", r.latticeSquares},
+                        {"quad_corners_restored", r.restoredVertices},
+                        {"quad_cones_centred", r.centredVertices},
+                        {"triangle_pairs_merged", r.mergedTrianglePairs}};
   return json;
 }
 
@@ -129,7 +136,8 @@ int runRemesh(int argc, char** argv) {
   const RemeshResult result = remesh(readMesh(inputPath), options, context);
   if (showProgress) std::fprintf(stderr, "\r%60s\r", "");
 
-  writeMesh(toPolygonSoup(result.remesh.triangles), *outputPath);
+  writeMesh(options.rosy == 4 ? result.remesh.quads : toPolygonSoup(result.remesh.triangles),
+            *outputPath);
   if (const auto hex = args.value("--hex")) writeMesh(result.remesh.hexDual, *hex);
   if (const auto textured = args.value("--textured")) writeMesh(result.textured, *textured);
   if (const auto metricsPath = args.value("--metrics")) {

@@ -32,7 +32,7 @@ from urllib.parse import quote
 import requests
 
 TERMINAL_STATES = frozenset({"succeeded", "failed", "canceled"})
-RESULT_MESHES = ("triangles", "hexagons", "textured")
+RESULT_MESHES = ("triangles", "quads", "hexagons", "textured")
 RESULT_FORMATS = ("obj", "ply", "off", "stl", "glb")
 OPTION_NAMES = ("edge_length", "vertices", "rosy", "sizing", "placement", "feature_angle",
                 "d_sing")
@@ -230,7 +230,7 @@ def _parser() -> argparse.ArgumentParser:
                              "followed; 0 turns this off")
     remesh.add_argument("--d-sing", type=float, help="singularity clustering distance")
     remesh.add_argument("--out", help="folder for the downloaded results (none: only metrics)")
-    remesh.add_argument("--meshes", default="triangles,hexagons,textured",
+    remesh.add_argument("--meshes", default="triangles,quads,hexagons,textured",
                         help="comma list of result meshes to download")
     remesh.add_argument("--formats", default="obj", help="comma list of formats (obj,ply,off,stl,glb)")
     remesh.add_argument("--idempotency-key", help="makes a retried submission return the same job")

@@ -6,6 +6,7 @@ import { MeshViewer } from './viewer.js';
 
 const kResultMeshes = [
   ['triangles', 'remesh'],
+  ['quads', 'quad remesh'],
   ['hexagons', 'hexagonal dual'],
   ['textured', 'textured input'],
 ];
@@ -202,9 +203,10 @@ async function showResults(job, rosy) {
   const text = (buffer) => new TextDecoder().decode(buffer);
   const hasObj = (mesh) => (job.links?.results ?? []).some((r) => r.mesh === mesh && r.format === 'obj');
   const objOf = (mesh) => (hasObj(mesh) ? fetchResult(id, 'obj', mesh) : null);
+  // A quad remesh (rosy 4) is shown as its quads.
   const [metrics, triangles, hexagons, textured] = await Promise.all([
     getMetrics(id),
-    fetchResult(id, 'obj', 'triangles'),
+    fetchResult(id, 'obj', hasObj('quads') ? 'quads' : 'triangles'),
     objOf('hexagons'),
     objOf('textured'),
   ]);

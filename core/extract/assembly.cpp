@@ -338,9 +338,9 @@ void keepComponentsTooSmallForTheLattice(const TriMesh& mesh, const std::vector<
   for (int c = 0; c < componentCount; ++c) report.componentsKept += keep[c] ? 1 : 0;
 }
 
-TriMesh buildMesh(const Assembly& out, ExtractionReport& report) {
+TriMesh buildMesh(const Assembly& out, ExtractionReport& report, std::vector<VH>& handle) {
   TriMesh result;
-  std::vector<VH> handle(out.positions.size());
+  handle.assign(out.positions.size(), VH());
   for (const auto& t : out.triangles)
     for (const int v : t)
       if (!handle[v].is_valid()) handle[v] = result.add_vertex(toOpenMesh(out.positions[v]));
@@ -392,7 +392,13 @@ TriMesh buildMesh(const Assembly& out, ExtractionReport& report) {
     result.request_face_status();
     for (const auto v : result.vertices())
       if (result.is_isolated(v)) result.delete_vertex(v, false);
-    result.garbage_collection();
+    // The handles follow the vertices' new indices (a deleted vertex's handle becomes invalid).
+    std::vector<VH*> handles;
+    for (VH& h : handle)
+      if (h.is_valid()) handles.push_back(&h);
+    std::vector<OpenMesh::HalfedgeHandle*> noHalfedges;
+    std::vector<OpenMesh::FaceHandle*> noFaces;
+    result.garbage_collection(handles, noHalfedges, noFaces);
     result.release_vertex_status();
     result.release_edge_status();
     result.release_face_status();

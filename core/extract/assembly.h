@@ -3,6 +3,7 @@
 // the repairs that keep it a manifold with the input's components (extract.h, steps 4 and 6).
 
 #include <Eigen/Core>
+#include <array>
 #include <vector>
 
 #include "core/extract/boundary.h"
@@ -20,6 +21,9 @@ struct Assembly {
   /// Vertices that make up the output's boundary loops (samples on the input boundary, or the
   /// lattice fronts in BoundaryMode::Lattice); holes through other vertices are gaps to fill.
   std::vector<bool> onBoundary;
+  /// N = 4: the unit lattice squares (counter-clockwise corners), each also in `triangles` as
+  /// (0, 1, 2) and (0, 2, 3); the quad output pairs the two triangles again where both remain.
+  std::vector<std::array<int, 4>> squares;
 
   int addVertex(const Eigen::Vector3d& p, int inputComponent) {
     positions.push_back(p);
@@ -77,7 +81,9 @@ void keepComponentsTooSmallForTheLattice(const TriMesh& mesh, const std::vector<
 /// The referenced vertices and the triangles as an OpenMesh mesh; faces OpenMesh refuses (they
 /// would make a vertex or edge non-manifold) are counted, and the holes they leave (boundary
 /// loops through no vertex of the output's boundary) are closed by a fan around the loop's
-/// centroid, as in step 4.
-TriMesh buildMesh(const Assembly& out, ExtractionReport& report);
+/// centroid, as in step 4. `vertexOf` (#assembly vertices) receives each assembly vertex's handle
+/// in the result (invalid for vertices not in it).
+TriMesh buildMesh(const Assembly& out, ExtractionReport& report,
+                  std::vector<TriMesh::VertexHandle>& vertexOf);
 
 }  // namespace hexcover::extract_detail

@@ -2,12 +2,14 @@
 // Exact arithmetic on lattice coordinates for extraction (internal to core/extract).
 //
 // A point z = (a, b) in lattice coordinates (paper eq. (3): a·e1 + b·e2) is stored as two int64
-// in units of 2^-24 / 3 lattice units. On this grid the Eisenstein rotation R = [[0,-1],[1,1]]
-// and integer translations are exact, lattice points (a, b) ∈ Z² and unit-triangle centroids
-// (a+⅓, b+⅓), (a+⅔, b+⅔) are exact, and so are the fixed points of every holonomy R^k z + t
-// (det(I − R^k) ∈ {1, 3, 4}). The orientation predicate is exact in 128-bit integers as long as
-// |a|, |b| < 2^20 lattice units (checked by quantize()). The map (a, b) ↦ a·e1 + b·e2 preserves
-// orientation, so orientation in lattice coordinates is orientation in the plane.
+// in units of 2^-24 / 3 lattice units. On this grid the lattice rotations (Eisenstein
+// R = [[0,-1],[1,1]] for N = 6, Gauss R = [[0,-1],[1,0]] for N = 4) and integer translations are
+// exact, lattice points (a, b) ∈ Z², unit-triangle centroids (a+⅓, b+⅓), (a+⅔, b+⅔) and unit-square
+// centres (a+½, b+½) are exact, and so are the fixed points of every holonomy R^k z + t
+// (det(I − R^k) ∈ {1, 3, 4} for N = 6, {2, 4} for N = 4). The orientation predicate is exact in
+// 128-bit integers as long as |a|, |b| < 2^20 lattice units (checked by quantize()). The map
+// (a, b) ↦ a·e1 + b·e2 preserves orientation, so orientation in lattice coordinates is
+// orientation in the plane.
 
 #include <Eigen/Core>
 #include <cmath>
@@ -55,18 +57,22 @@ inline std::int64_t floorUnits(std::int64_t x) {
 }
 inline std::int64_t ceilUnits(std::int64_t x) { return -floorUnits(-x); }
 
-/// R^k p with R the rotation by 2π/6 in lattice coordinates: (a, b) ↦ (−b, a + b).
-inline FixedPoint rotate(FixedPoint p, int k) {
-  for (int i = 0; i < ((k % 6) + 6) % 6; ++i) p = {-p.b, p.a + p.b};
-  return p;
+/// R p with R the rotation by 2π/n (n = 6 or 4) in lattice coordinates: (a, b) ↦ (−b, a + b) for
+/// the Eisenstein lattice, (a, b) ↦ (−b, a) for the Gauss lattice.
+template <typename Vector>
+Vector rotateOnce(const Vector& z, int n) {
+  return n == 6 ? Vector(-z.y(), z.x() + z.y()) : Vector(-z.y(), z.x());
 }
-inline Eigen::Vector2d rotate(Eigen::Vector2d z, int k) {
-  for (int i = 0; i < ((k % 6) + 6) % 6; ++i) z = Eigen::Vector2d(-z.y(), z.x() + z.y());
+/// R^k z (k any integer, taken mod n).
+template <typename Vector>
+Vector rotate(Vector z, int k, int n) {
+  for (int i = 0; i < ((k % n) + n) % n; ++i) z = rotateOnce(z, n);
   return z;
 }
-inline Eigen::Matrix<std::int64_t, 2, 1> rotate(Eigen::Matrix<std::int64_t, 2, 1> t, int k) {
-  for (int i = 0; i < ((k % 6) + 6) % 6; ++i) t = {-t.y(), t.x() + t.y()};
-  return t;
+inline FixedPoint rotate(FixedPoint p, int k, int n) {
+  for (int i = 0; i < ((k % n) + n) % n; ++i)
+    p = n == 6 ? FixedPoint{-p.b, p.a + p.b} : FixedPoint{-p.b, p.a};
+  return p;
 }
 
 /// Twice the signed area of (p, q, r) in fixed-point units²: > 0 counter-clockwise. Exact.
@@ -75,31 +81,35 @@ inline __int128 orient(const FixedPoint& p, const FixedPoint& q, const FixedPoin
          static_cast<__int128>(q.b - p.b) * (r.a - p.a);
 }
 
-/// z ↦ R^rotation z + translation, an integral transition (paper eq. (2)).
+/// z ↦ R^rotation z + translation, an integral transition (paper eq. (2)) of the lattice of order
+/// `n` (6: Eisenstein, 4: Gauss).
 struct Transition {
   int rotation = 0;
   Eigen::Matrix<std::int64_t, 2, 1> translation{0, 0};
+  int n = 6;
 
   FixedPoint operator()(const FixedPoint& p) const {
-    const FixedPoint r = rotate(p, rotation);
+    const FixedPoint r = rotate(p, rotation, n);
     return {r.a + translation.x() * kUnit, r.b + translation.y() * kUnit};
   }
   Transition inverse() const {
-    const int back = (6 - rotation) % 6;
-    return {back, -rotate(translation, back)};
+    const int back = (n - rotation) % n;
+    return {back, -rotate(translation, back, n), n};
   }
   /// (this ∘ first)(z) = this(first(z)).
   Transition after(const Transition& first) const {
-    return {(rotation + first.rotation) % 6, rotate(first.translation, rotation) + translation};
+    return {(rotation + first.rotation) % n, rotate(first.translation, rotation, n) + translation,
+            n};
   }
 };
 
-/// The fixed point of z ↦ R^k z + t for k ≠ 0 (mod 6): the solution of (I − R^k) z = t, exact on
-/// the fixed-point grid because det(I − R^k) ∈ {1, 3, 4} divides kUnit.
+/// The fixed point of z ↦ R^k z + t for k ≠ 0 (mod n): the solution of (I − R^k) z = t, exact on
+/// the fixed-point grid because det(I − R^k) ∈ {1, 2, 3, 4} divides kUnit.
 inline FixedPoint fixedPoint(const Transition& holonomy) {
   // Columns of R^k are R^k e1 and R^k e2.
-  const auto c1 = rotate(Eigen::Matrix<std::int64_t, 2, 1>(1, 0), holonomy.rotation);
-  const auto c2 = rotate(Eigen::Matrix<std::int64_t, 2, 1>(0, 1), holonomy.rotation);
+  using Vector = Eigen::Matrix<std::int64_t, 2, 1>;
+  const auto c1 = rotate(Vector(1, 0), holonomy.rotation, holonomy.n);
+  const auto c2 = rotate(Vector(0, 1), holonomy.rotation, holonomy.n);
   const std::int64_t m00 = 1 - c1.x(), m01 = -c2.x(), m10 = -c1.y(), m11 = 1 - c2.y();
   const std::int64_t det = m00 * m11 - m01 * m10;
   const auto& t = holonomy.translation;

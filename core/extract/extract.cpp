@@ -7,6 +7,7 @@
 #include "core/extract/boundary.h"
 #include "core/extract/front_stitching.h"
 #include "core/extract/lattice_extractor.h"
+#include "core/extract/quad_mesh.h"
 #include "core/extract/surface_fit.h"
 #include "core/geometry/closest_point.h"
 
@@ -62,9 +63,9 @@ std::vector<int> faceComponents(const TriMesh& mesh, int& count) {
 Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
                      const ExtractOptions& options, const RunContext& context) {
   options.validate();
-  if (param.n != 6)
+  if (param.n != 6 && param.n != 4)
     throw Error(ErrorCode::InvalidOption,
-                "extraction supports the 6-RoSy (Eisenstein) lattice only; got N = " +
+                "extraction supports the Eisenstein (N = 6) and Gauss (N = 4) lattices; got N = " +
                     std::to_string(param.n));
   if (param.cornerCoords.size() != mesh.n_halfedges() || param.edgeTransition.size() != mesh.n_edges())
     throw Error(ErrorCode::InvalidOption,
@@ -76,8 +77,11 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
   int componentCount = 0;
   const std::vector<int> faceComponent = faceComponents(mesh, componentCount);
   report.components = componentCount;
+  const bool quads = param.n == 4;
   Assembly out;
   extractLattice(mesh, param, faceComponent, out, report, context);
+  std::vector<TriMesh::VertexHandle> vertexOf;
+  std::vector<Eigen::Vector3d> unfitted;  // N = 4: vertex positions before the fit
   {
     ScopedTimer timer(report.timings, "repair and boundary");
     context.report("extract", 0.7);
@@ -85,9 +89,10 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     dropDegenerateAndOverlapping(out.triangles, report);
     if (componentCount > 0) closeBoundaries(mesh, faceComponent, options, out, report);
     repairNonManifold(out, report);
-    report.latticePointCopiesMerged = collapseLatticePointCopies(out);
+    // Two copies of one lattice point merge into a cone of the triangle lattice (valence 4).
+    if (!quads) report.latticePointCopiesMerged = collapseLatticePointCopies(out);
     keepComponentsTooSmallForTheLattice(mesh, faceComponent, componentCount, options, out, report);
-    result.triangles = buildMesh(out, report);
+    result.triangles = buildMesh(out, report, vertexOf);
   }
   // A remesh made only of components copied from the input (step 6) is the input as it is:
   // neither fitted nor rid of slivers.
@@ -98,21 +103,33 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     context.throwIfCanceled();
     if (options.fitToSurface && result.triangles.n_faces() > 0) {
       const ClosestPointQuery inputQuery(mesh);
-      const auto counts =
-          fitRemeshToSurface(mesh, inputQuery, result.triangles, options.featureSnapDistance,
-                             options.creaseAngle, options.balanceDeviation, options.threads);
+      if (quads)
+        for (const auto v : result.triangles.vertices())
+          unfitted.push_back(toEigen(result.triangles.point(v)));
+      const auto counts = fitRemeshToSurface(
+          mesh, inputQuery, result.triangles, options.featureSnapDistance, options.creaseAngle,
+          options.balanceDeviation, options.threads, kSurfaceFitRounds, /*shapeTriangles=*/!quads);
       report.featureSnaps = counts.snapped;
       report.smoothedVertices = counts.smoothed;
       report.relaxedVertices = counts.relaxed;
       report.balancedVertices = counts.balanced;
     }
-    if (options.sliverAngle > 0.0) {
+    // The sliver repairs change the connectivity, which the quads' pairing reads.
+    if (options.sliverAngle > 0.0 && !quads) {
       report.boundarySliverCollapses = collapseBoundarySlivers(
           result.triangles, options.sliverAngle, options.sharpBoundaryAngle);
       report.boundarySliverFlips = flipBoundarySlivers(result.triangles, options.sliverAngle);
     }
   }
-  {
+  if (quads) {
+    result.quads = pairSquares(result.triangles, out.squares, vertexOf);
+    if (!unfitted.empty()) {
+      report.restoredVertices = restoreQuadCorners(result.quads, result.triangles, unfitted);
+      report.centredVertices =
+          centreIrregularVertices(result.quads, result.triangles, ClosestPointQuery(mesh));
+    }
+    report.mergedTrianglePairs = mergeTrianglePairs(result.quads);
+  } else {
     ScopedTimer timer(report.timings, "hexagonal dual");
     context.report("extract", 0.9);
     result.hexDual = hexagonalDual(result.triangles);

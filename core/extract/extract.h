@@ -100,7 +100,8 @@ struct ExtractOptions {
 /// What extraction found and repaired. Counts are over the whole mesh.
 struct ExtractionReport {
   long long latticePoints = 0;        ///< lattice points emitted (each exactly once)
-  long long latticeTriangles = 0;     ///< unit lattice triangles emitted
+  long long latticeTriangles = 0;     ///< unit lattice triangles emitted (N = 4: two per square)
+  long long latticeSquares = 0;       ///< N = 4: unit lattice squares emitted
   long long boundaryClipped = 0;      ///< lattice triangles dropped because they leave the surface
   long long boundarySnapped = 0;      ///< lattice vertices removed near the input boundary
   long long boundarySamples = 0;      ///< vertices placed on the input boundary
@@ -126,6 +127,9 @@ struct ExtractionReport {
   long long smoothedVertices = 0;      ///< vertex moves that opened up poor triangles
   long long relaxedVertices = 0;       ///< relaxation moves (angles nearer 60°)
   long long balancedVertices = 0;      ///< balancing moves (off the input, along the normal)
+  long long restoredVertices = 0;      ///< N = 4: fit moves taken back for the quad corners
+  long long centredVertices = 0;       ///< N = 4: irregular quad vertices centred (quad_mesh.h)
+  long long mergedTrianglePairs = 0;   ///< N = 4: pairs of strip or fill triangles made quads
   long long boundarySliverCollapses = 0;  ///< step 8: boundary vertices collapsed at slivers
   long long boundarySliverFlips = 0;   ///< step 8: flips of slivers at the output boundary
   long long nonManifoldVertices = 0;   ///< vertices with several fans, re-triangulated locally
@@ -135,15 +139,21 @@ struct ExtractionReport {
   Timings timings;
 };
 
-/// The remesh: a triangle mesh, its hexagonal dual and the extraction report.
+/// The remesh: a triangle mesh, its hexagonal dual and the extraction report; for N = 4 also the
+/// quad-dominant mesh.
 struct Remesh {
-  /// Manifold, consistently oriented triangle mesh (same orientation as the input).
+  /// Manifold, consistently oriented triangle mesh (same orientation as the input). For N = 4
+  /// each unit square of the lattice is two of its triangles, split along the square's diagonal
+  /// (a, b)-(a+1, b+1).
   TriMesh triangles;
   /// Hexagonal dual as polygons: for each vertex of `triangles` the polygon through the centroids
   /// of its triangles in counter-clockwise order (hexagons at valence 6, pentagons/heptagons at
   /// singularities); at boundary vertices the polygon is closed through the midpoints of the two
   /// boundary edges and the vertex itself.
-  PolygonSoup hexDual;
+  PolygonSoup hexDual;  ///< empty for N = 4
+  /// N = 4: `triangles` with the two triangles of each unit lattice square joined into a quad; the
+  /// boundary strips, hole fills and squares cut by a repair stay triangles. Empty for N = 6.
+  PolygonSoup quads;
   ExtractionReport report;
 };
 

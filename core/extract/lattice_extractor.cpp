@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <unordered_map>
 #include <utility>
 
@@ -19,6 +20,7 @@ using VH = TriMesh::VertexHandle;
 /// Sanitized parameterization: fixed-point corner coordinates on which the recomputed integer
 /// transitions hold exactly (algorithm notes, "Extraction": sanitize first).
 struct ExactChart {
+  int n = 6;                         ///< lattice order: 6 (Eisenstein) or 4 (Gauss)
   std::vector<FixedPoint> corner;    ///< #halfedges: to_vertex(h) in face(h)
   std::vector<Transition> crossing;  ///< #E: chart of face(halfedge(e,0)) -> chart of the other
   std::vector<int> orientation;      ///< #F: +1 counter-clockwise, 0 degenerate, -1 flipped
@@ -35,15 +37,17 @@ Eigen::Vector2d fromCoords(const TriMesh& mesh, const Parameterization& param, H
   return param.cornerCoords[mesh.prev_halfedge_handle(h).idx()];
 }
 
-/// Squared length of a lattice-coordinate vector in the plane (Gram matrix [[1, ½], [½, 1]]).
-double planeNorm2(const Eigen::Vector2d& d) {
-  return d.x() * d.x() + d.x() * d.y() + d.y() * d.y();
+/// Squared length of a lattice-coordinate vector in the plane: Gram matrix [[1, ½], [½, 1]] of
+/// the Eisenstein basis (n = 6), the identity for the Gauss basis (n = 4).
+double planeNorm2(const Eigen::Vector2d& d, int n) {
+  return d.x() * d.x() + (n == 6 ? d.x() * d.y() : 0.0) + d.y() * d.y();
 }
 
 /// Step 1a: each interior edge's transition from the corner coordinates on both sides.
 std::vector<Transition> recomputeTransitions(const TriMesh& mesh, const Parameterization& param,
                                              ExtractionReport& report) {
-  std::vector<Transition> crossing(mesh.n_edges());
+  const int n = param.n;
+  std::vector<Transition> crossing(mesh.n_edges(), Transition{0, {0, 0}, n});
   for (const auto e : mesh.edges()) {
     if (mesh.is_boundary(e)) continue;
     const HH h0 = mesh.halfedge_handle(e, 0), h1 = mesh.halfedge_handle(e, 1);
@@ -53,15 +57,15 @@ std::vector<Transition> recomputeTransitions(const TriMesh& mesh, const Paramete
     const EdgeTransition& given = param.edgeTransition[e.idx()];
     int best = given.rotation;
     const Eigen::Vector2d d0 = b0 - a0, d1 = b1 - a1;
-    if (planeNorm2(d0) > 1e-18) {
-      double bestResidual = planeNorm2(rotate(d0, best) - d1);
-      for (int r = 0; r < 6; ++r) {
-        const double residual = planeNorm2(rotate(d0, r) - d1);
+    if (planeNorm2(d0, n) > 1e-18) {
+      double bestResidual = planeNorm2(rotate(d0, best, n) - d1, n);
+      for (int r = 0; r < n; ++r) {
+        const double residual = planeNorm2(rotate(d0, r, n) - d1, n);
         if (residual < bestResidual - 1e-12) best = r, bestResidual = residual;
       }
     }
-    const Eigen::Vector2d t = 0.5 * ((a1 - rotate(a0, best)) + (b1 - rotate(b0, best)));
-    Transition transition{best, {std::llround(t.x()), std::llround(t.y())}};
+    const Eigen::Vector2d t = 0.5 * ((a1 - rotate(a0, best, n)) + (b1 - rotate(b0, best, n)));
+    Transition transition{best, {std::llround(t.x()), std::llround(t.y())}, n};
     if (transition.rotation != given.rotation ||
         transition.translation != given.translation.cast<std::int64_t>())
       ++report.transitionsCorrected;
@@ -99,6 +103,7 @@ bool incomingFan(const TriMesh& mesh, VH v, std::vector<HH>& fan) {
 ExactChart sanitize(const TriMesh& mesh, const Parameterization& param, ExtractionReport& report,
                     const RunContext& context) {
   ExactChart chart;
+  chart.n = param.n;
   chart.crossing = recomputeTransitions(mesh, param, report);
   chart.corner.assign(mesh.n_halfedges(), FixedPoint{});
   std::vector<HH> fan;
@@ -109,7 +114,7 @@ ExactChart sanitize(const TriMesh& mesh, const Parameterization& param, Extracti
     FixedPoint z = quantize(param.cornerCoords[fan[0].idx()]);
     if (closed) {
       // Holonomy: the composed transitions once around v, from fan[0]'s chart to itself.
-      Transition holonomy;
+      Transition holonomy{0, {0, 0}, param.n};
       for (const HH h : fan)
         holonomy = chart.across(mesh, mesh.next_halfedge_handle(h)).after(holonomy);
       if (holonomy.rotation != 0)
@@ -212,45 +217,72 @@ class LatticeExtractor {
     report_.latticePoints = static_cast<long long>(out.positions.size());
   }
 
-  /// Step 3: every unit lattice triangle whose centroid a counter-clockwise parameter triangle
-  /// owns, with its corners found by walking from the centroid.
-  void emitTriangles(Assembly& out) {
+  /// Step 3: every unit lattice cell whose centre a counter-clockwise parameter triangle owns,
+  /// with its corners found by walking from the centre. N = 6: the triangles
+  /// {(a,b), (a+1,b), (a,b+1)} and {(a+1,b), (a+1,b+1), (a,b+1)} (centroids (a+⅓, b+⅓),
+  /// (a+⅔, b+⅔)). N = 4: the squares {(a,b), (a+1,b), (a+1,b+1), (a,b+1)} (centre (a+½, b+½)), each
+  /// as the two triangles on either side of its diagonal (a,b)-(a+1,b+1), and in
+  /// Assembly::squares.
+  void emitCells(Assembly& out) {
     for (const auto f : mesh_.faces()) {
       if ((f.idx() & 4095) == 0) context_.throwIfCanceled();
       if (chart_.orientation[f.idx()] <= 0) continue;
       const auto [h, q] = corners(f);
       const auto [lo, hi] = bounds(q);
-      for (std::int64_t a = floorUnits(lo.a) - 1; a <= ceilUnits(hi.a); ++a) {
+      for (std::int64_t a = floorUnits(lo.a) - 1; a <= ceilUnits(hi.a); ++a)
         for (std::int64_t b = floorUnits(lo.b) - 1; b <= ceilUnits(hi.b); ++b) {
+          if (chart_.n == 4) {
+            const FixedPoint c{a * kUnit + kUnit / 2, b * kUnit + kUnit / 2};
+            if (!ownsCentroid(f, h, q, c)) continue;
+            const auto square =
+                cellVertices<4>(f, c,
+                                {latticePoint(a, b), latticePoint(a + 1, b),
+                                 latticePoint(a + 1, b + 1), latticePoint(a, b + 1)});
+            if (!square) continue;
+            const auto& v = *square;
+            out.squares.push_back(v);
+            out.triangles.push_back({v[0], v[1], v[2]});
+            out.triangles.push_back({v[0], v[2], v[3]});
+            report_.latticeTriangles += 2;
+            ++report_.latticeSquares;
+            continue;
+          }
           for (const int third : {1, 2}) {
             // Centroid (a + third/3, b + third/3) in fixed point (kUnit = 3 · 2^24).
             const FixedPoint c{a * kUnit + third * (kUnit / 3), b * kUnit + third * (kUnit / 3)};
             if (!ownsCentroid(f, h, q, c)) continue;
-            const std::array<FixedPoint, 3> corner =
+            const auto triangle = cellVertices<3>(
+                f, c,
                 third == 1
                     ? std::array<FixedPoint, 3>{latticePoint(a, b), latticePoint(a + 1, b),
                                                 latticePoint(a, b + 1)}
                     : std::array<FixedPoint, 3>{latticePoint(a + 1, b), latticePoint(a + 1, b + 1),
-                                                latticePoint(a, b + 1)};
-            Triangle t;
-            Walk end = Walk::Found;
-            for (int k = 0; k < 3 && end == Walk::Found; ++k) end = walk(f, c, corner[k], t[k]);
-            if (end == Walk::Found) {
-              out.triangles.push_back(t);
-              ++report_.latticeTriangles;
-            } else if (end == Walk::LeftSurface) {
-              ++report_.boundaryClipped;
-            } else {
-              ++report_.uncoveredTriangles;
-            }
+                                                latticePoint(a, b + 1)});
+            if (!triangle) continue;
+            out.triangles.push_back(*triangle);
+            ++report_.latticeTriangles;
           }
         }
-      }
     }
   }
 
  private:
   enum class Walk { Found, LeftSurface, Blocked };
+
+  /// The lattice points emitted for the corners of a cell whose centre c lies in f, found by
+  /// walking from c; nothing when a walk leaves the surface (the cell is cut by the boundary) or
+  /// is blocked by a fold (a coverage gap), each counted.
+  template <std::size_t K>
+  std::optional<std::array<int, K>> cellVertices(FH f, const FixedPoint& c,
+                                                 const std::array<FixedPoint, K>& corner) {
+    std::array<int, K> vertex;
+    Walk end = Walk::Found;
+    for (std::size_t k = 0; k < K && end == Walk::Found; ++k)
+      end = walk(f, c, corner[k], vertex[k]);
+    if (end == Walk::Found) return vertex;
+    ++(end == Walk::LeftSurface ? report_.boundaryClipped : report_.uncoveredTriangles);
+    return std::nullopt;
+  }
 
   int addVertex(Assembly& out, const Eigen::Vector3d& p, int face) {
     return out.addVertex(p, component_[face]);
@@ -278,7 +310,7 @@ class LatticeExtractor {
     return p;
   }
 
-  /// Whether f is the one face that emits the unit triangle with centroid c: c is in f's closed
+  /// Whether f is the one face that emits the unit cell with centre c: c is in f's closed
   /// triangle, and when it is on an edge or a vertex, f has the lowest index among the
   /// counter-clockwise faces that contain it.
   bool ownsCentroid(FH f, const std::array<HH, 3>& h, const std::array<FixedPoint, 3>& q,
@@ -360,9 +392,9 @@ void extractLattice(const TriMesh& mesh, const Parameterization& param,
     context.report("extract", 0.1);
     extractor.emitPoints(out);
   }
-  ScopedTimer timer(report.timings, "lattice triangles");
+  ScopedTimer timer(report.timings, param.n == 4 ? "lattice squares" : "lattice triangles");
   context.report("extract", 0.3);
-  extractor.emitTriangles(out);
+  extractor.emitCells(out);
 }
 
 }  // namespace hexcover::extract_detail

@@ -13,7 +13,8 @@
 
 namespace hexcover::extract_detail {
 
-/// Appends the lattice points of `param` on `mesh` and its unit lattice triangles to `out`, each
+/// Appends the lattice points of `param` on `mesh` and its unit lattice cells to `out` (triangles;
+/// for N = 4 each square as two triangles, and in Assembly::squares), each
 /// vertex tagged with the component (`faceComponent`) of the face that emits it. Counts and the
 /// timings of "sanitize", "lattice points" and "lattice triangles" go to `report`.
 void extractLattice(const TriMesh& mesh, const Parameterization& param,

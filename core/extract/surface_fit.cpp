@@ -623,18 +623,19 @@ class SurfaceFit {
 
 SurfaceFitCounts fitRemeshToSurface(const TriMesh& input, const ClosestPointQuery& inputQuery,
                                     TriMesh& remesh, double featureSnapDistance, double creaseAngle,
-                                    bool balanceDeviation, int threads, int rounds) {
+                                    bool balanceDeviation, int threads, int rounds,
+                                    bool shapeTriangles) {
   SurfaceFitCounts counts;
   if (input.n_faces() == 0 || remesh.n_faces() == 0) return counts;
   SurfaceFit fit(input, inputQuery, remesh, creaseAngle, threads);
   for (int round = 0; round < rounds; ++round) {
     const long long snapped = fit.snapFeatures(featureSnapDistance);
-    const long long smoothed = fit.smoothPoorTriangles();
+    const long long smoothed = shapeTriangles ? fit.smoothPoorTriangles() : 0;
     counts.snapped += snapped;
     counts.smoothed += smoothed;
     if (snapped + smoothed == 0) break;
   }
-  counts.relaxed = fit.relax();
+  if (shapeTriangles) counts.relaxed = fit.relax();
   if (balanceDeviation) counts.balanced = fit.balance();
   return counts;
 }

@@ -63,15 +63,20 @@ struct SurfaceFitCounts {
   long long balanced = 0;  ///< balancing moves
 };
 
+/// Rounds of feature snapping and smoothing (fewer when one moves nothing).
+inline constexpr int kSurfaceFitRounds = 4;
+
 /// Fits `remesh` (vertices on the surface of `input`; `inputQuery` answers closest points on it)
 /// to `input` by feature snapping and smoothing of poor triangles, alternating for up to `rounds`
 /// rounds while either moves a vertex, then relaxation on up to `threads` threads, then (with
 /// balanceDeviation) balancing. featureSnapDistance ≤ 0 disables snapping. The input's crease
 /// vertices, which relaxation keeps close, are those with an edge whose dihedral angle is at
-/// least `creaseAngle` degrees (≤ 0: none).
+/// least `creaseAngle` degrees (≤ 0: none). `shapeTriangles` false skips smoothing and relaxation,
+/// whose angles aim at 60°: the quad remesh (N = 4) is fitted by snapping and balancing only.
 SurfaceFitCounts fitRemeshToSurface(const TriMesh& input, const ClosestPointQuery& inputQuery,
                                     TriMesh& remesh, double featureSnapDistance,
                                     double creaseAngle = 0.0, bool balanceDeviation = true,
-                                    int threads = 1, int rounds = 4);
+                                    int threads = 1, int rounds = kSurfaceFitRounds,
+                                    bool shapeTriangles = true);
 
 }  // namespace hexcover::extract_detail

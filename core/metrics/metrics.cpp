@@ -5,6 +5,9 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <utility>
+#include <vector>
 
 #include "core/common/error.h"
 
@@ -43,48 +46,59 @@ double angleDegrees(const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
   return std::atan2(u.cross(v).norm(), u.dot(v)) * kDegrees;
 }
 
-void measureShape(const TriMesh& mesh, QualityReport& report) {
-  RunningStats angles, minAngles, quality;
+/// The corner angles, smallest angle per face, triangle quality and edge lengths of a mesh, as
+/// QualityReport states them.
+struct ShapeTally {
+  RunningStats angles, minAngles, quality, edges;
   std::size_t below30 = 0, above90 = 0;
+
+  void addAngle(double angle) {
+    angles.add(angle);
+    below30 += angle < 30.0;
+    above90 += angle > 90.0;
+  }
+  /// Q = 6·A / (√3·p·L_max) of triangle (a, b, c).
+  void addTriangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+    const double ab = (b - a).norm(), bc = (c - b).norm(), ca = (a - c).norm();
+    const double area = 0.5 * (b - a).cross(c - a).norm();
+    const double denominator = std::sqrt(3.0) * 0.5 * (ab + bc + ca) * std::max({ab, bc, ca});
+    quality.add(denominator > 0.0 ? 6.0 * area / denominator : 0.0);
+  }
+  void store(QualityReport& report) const {
+    const double corners = static_cast<double>(angles.count());
+    report.angleMin = angles.min();
+    report.angleMax = angles.max();
+    report.angleMean = angles.mean();
+    report.angleSd = angles.sd();
+    report.anglesBelow30Pct = corners > 0 ? 100.0 * static_cast<double>(below30) / corners : 0.0;
+    report.anglesAbove90Pct = corners > 0 ? 100.0 * static_cast<double>(above90) / corners : 0.0;
+    report.minAngleMean = minAngles.mean();
+    report.qualityMin = quality.min();
+    report.qualityMean = quality.mean();
+    report.edgeLengthMean = edges.mean();
+    report.edgeLengthCv = edges.mean() > 0.0 ? edges.sd() / edges.mean() : 0.0;
+  }
+};
+
+void measureShape(const TriMesh& mesh, QualityReport& report) {
+  ShapeTally tally;
   for (const auto fh : mesh.faces()) {
     const auto h = fh.halfedge();
     const std::array<Eigen::Vector3d, 3> p{toEigen(mesh.point(h.from())),
                                            toEigen(mesh.point(h.to())),
                                            toEigen(mesh.point(h.next().to()))};
-    double smallest = 180.0, perimeter = 0.0, longest = 0.0;
+    double smallest = 180.0;
     for (int i = 0; i < 3; ++i) {
       const Eigen::Vector3d& a = p[i];
-      const Eigen::Vector3d& b = p[(i + 1) % 3];
-      const Eigen::Vector3d& c = p[(i + 2) % 3];
-      const double angle = angleDegrees(b - a, c - a);
-      angles.add(angle);
+      const double angle = angleDegrees(p[(i + 1) % 3] - a, p[(i + 2) % 3] - a);
+      tally.addAngle(angle);
       smallest = std::min(smallest, angle);
-      below30 += angle < 30.0;
-      above90 += angle > 90.0;
-      const double length = (b - a).norm();
-      perimeter += length;
-      longest = std::max(longest, length);
     }
-    minAngles.add(smallest);
-    const double area = 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).norm();
-    const double denominator = std::sqrt(3.0) * 0.5 * perimeter * longest;
-    quality.add(denominator > 0.0 ? 6.0 * area / denominator : 0.0);
+    tally.minAngles.add(smallest);
+    tally.addTriangle(p[0], p[1], p[2]);
   }
-  const double corners = static_cast<double>(angles.count());
-  report.angleMin = angles.min();
-  report.angleMax = angles.max();
-  report.angleMean = angles.mean();
-  report.angleSd = angles.sd();
-  report.anglesBelow30Pct = corners > 0 ? 100.0 * static_cast<double>(below30) / corners : 0.0;
-  report.anglesAbove90Pct = corners > 0 ? 100.0 * static_cast<double>(above90) / corners : 0.0;
-  report.minAngleMean = minAngles.mean();
-  report.qualityMin = quality.min();
-  report.qualityMean = quality.mean();
-
-  RunningStats edges;
-  for (const auto eh : mesh.edges()) edges.add(mesh.calc_edge_length(eh));
-  report.edgeLengthMean = edges.mean();
-  report.edgeLengthCv = edges.mean() > 0.0 ? edges.sd() / edges.mean() : 0.0;
+  for (const auto eh : mesh.edges()) tally.edges.add(mesh.calc_edge_length(eh));
+  tally.store(report);
 
   for (const auto vh : mesh.vertices()) {
     const int valence = static_cast<int>(mesh.valence(vh));
@@ -99,6 +113,54 @@ void measureShape(const TriMesh& mesh, QualityReport& report) {
     }
   }
   report.faces = static_cast<int>(mesh.n_faces());
+}
+
+/// measureShape of a polygon mesh (see measurePolygonQuality).
+void measurePolygonShape(const PolygonSoup& mesh, QualityReport& report) {
+  ShapeTally tally;
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> edgeUses;
+  for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
+    const std::size_t size = mesh.faceSize(f);
+    const auto vertex = [&](std::size_t k) {
+      return mesh.cornerVertices[mesh.faceStarts[f] + k % size];
+    };
+    const auto at = [&](std::size_t k) -> const Eigen::Vector3d& {
+      return mesh.positions[vertex(k)];
+    };
+    double smallest = 180.0;
+    for (std::size_t k = 0; k < size; ++k) {
+      const double angle = angleDegrees(at(k + 1) - at(k), at(k + size - 1) - at(k));
+      tally.addAngle(angle);
+      smallest = std::min(smallest, angle);
+      const std::uint32_t a = vertex(k), b = vertex(k + 1);
+      if (++edgeUses[{std::min(a, b), std::max(a, b)}] == 1)
+        tally.edges.add((at(k + 1) - at(k)).norm());
+    }
+    tally.minAngles.add(smallest);
+    report.quads += size == 4;
+    if (size == 3) tally.addTriangle(at(0), at(1), at(2));
+  }
+  tally.store(report);
+
+  std::vector<int> valence(mesh.vertexCount(), 0);
+  std::vector<bool> onBoundary(mesh.vertexCount(), false);
+  for (const auto& [edge, uses] : edgeUses) {
+    ++valence[edge.first];
+    ++valence[edge.second];
+    if (uses == 1) onBoundary[edge.first] = onBoundary[edge.second] = true;
+  }
+  for (std::size_t v = 0; v < valence.size(); ++v) {
+    if (valence[v] == 0) continue;  // isolated vertex
+    ++report.vertices;
+    if (onBoundary[v]) {
+      ++report.valenceBoundary[valence[v]];
+      report.irregularBoundary += valence[v] != 3;
+    } else {
+      ++report.valenceInterior[valence[v]];
+      report.irregularInterior += valence[v] != 4;
+    }
+  }
+  report.faces = static_cast<int>(mesh.faceCount());
 }
 
 DistanceReport measureDistance(const TriMesh& result, const TriMesh& reference,
@@ -126,20 +188,9 @@ DistanceReport measureDistance(const TriMesh& result, const TriMesh& reference,
   return report;
 }
 
-}  // namespace
-
-QualityReport measureQuality(const TriMesh& result, const TriMesh* reference,
-                             const MetricsOptions& options) {
-  options.validate();
-  if (result.n_faces() == 0)
-    throw Error(ErrorCode::InvalidMesh, "the result mesh has no faces: nothing to measure");
-  if (reference && reference->n_faces() == 0)
-    throw Error(ErrorCode::InvalidMesh, "the reference mesh has no faces: nothing to compare with");
-  QualityReport report;
-  {
-    ScopedTimer timer(report.timings, "shape");
-    measureShape(result, report);
-  }
+/// Topology of `result` and, against `reference`, its topology match and distances.
+void measureAgainstReference(const TriMesh& result, const TriMesh* reference,
+                             const MetricsOptions& options, QualityReport& report) {
   {
     ScopedTimer timer(report.timings, "topology");
     report.topology = computeTopology(result);
@@ -150,6 +201,40 @@ QualityReport measureQuality(const TriMesh& result, const TriMesh* reference,
     ScopedTimer timer(report.timings, "distance");
     report.distance = measureDistance(result, *reference, options.distance);
   }
+}
+
+void checkMeasurable(const TriMesh& result, const TriMesh* reference,
+                     const MetricsOptions& options) {
+  options.validate();
+  if (result.n_faces() == 0)
+    throw Error(ErrorCode::InvalidMesh, "the result mesh has no faces: nothing to measure");
+  if (reference && reference->n_faces() == 0)
+    throw Error(ErrorCode::InvalidMesh, "the reference mesh has no faces: nothing to compare with");
+}
+
+}  // namespace
+
+QualityReport measureQuality(const TriMesh& result, const TriMesh* reference,
+                             const MetricsOptions& options) {
+  checkMeasurable(result, reference, options);
+  QualityReport report;
+  {
+    ScopedTimer timer(report.timings, "shape");
+    measureShape(result, report);
+  }
+  measureAgainstReference(result, reference, options, report);
+  return report;
+}
+
+QualityReport measurePolygonQuality(const PolygonSoup& result, const TriMesh& triangulated,
+                                    const TriMesh* reference, const MetricsOptions& options) {
+  checkMeasurable(triangulated, reference, options);
+  QualityReport report;
+  {
+    ScopedTimer timer(report.timings, "shape");
+    measurePolygonShape(result, report);
+  }
+  measureAgainstReference(triangulated, reference, options, report);
   return report;
 }
 

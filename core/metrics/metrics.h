@@ -64,8 +64,9 @@ struct QualityReport {
   /// vertices that belong to a face.
   std::map<int, int> valenceInterior;
   std::map<int, int> valenceBoundary;
-  int irregularInterior = 0;  ///< interior vertices of valence ≠ 6
-  int irregularBoundary = 0;  ///< boundary vertices of valence ≠ 4
+  int irregularInterior = 0;  ///< interior vertices of valence ≠ 6 (quad remesh: ≠ 4)
+  int irregularBoundary = 0;  ///< boundary vertices of valence ≠ 4 (quad remesh: ≠ 3)
+  int quads = 0;              ///< faces with four corners (measurePolygonQuality)
 
   double edgeLengthMean = 0.0;  ///< mesh length unit
   double edgeLengthCv = 0.0;    ///< coefficient of variation: SD / mean
@@ -83,5 +84,14 @@ struct QualityReport {
 /// Throws Error(InvalidMesh) if a mesh has no faces, Error(InvalidOption) for bad options.
 QualityReport measureQuality(const TriMesh& result, const TriMesh* reference = nullptr,
                              const MetricsOptions& options = {});
+
+/// measureQuality of a quad-dominant polygon mesh (the remesh of the Gauss lattice): the angles
+/// over every corner of every polygon (90° in a square), the triangle quality Q over its
+/// triangles only (0 without), the valences with 4 regular inside and 3 on the boundary, the edge
+/// lengths over its polygon edges; topology and distances from `triangulated`, the same surface
+/// with each polygon split into triangles.
+QualityReport measurePolygonQuality(const PolygonSoup& result, const TriMesh& triangulated,
+                                    const TriMesh* reference = nullptr,
+                                    const MetricsOptions& options = {});
 
 }  // namespace hexcover

@@ -33,10 +33,8 @@ void RemeshOptions::validate() const {
   if (targetVertices && *targetVertices > kMaxTargetVertices)
     fail("target vertex count must be at most " + std::to_string(kMaxTargetVertices) + ", got " +
          std::to_string(*targetVertices));
-  if (rosy == 4)
-    fail("rosy 4 (quad remeshing) is not available yet: extraction builds triangles from the "
-         "Eisenstein lattice (rosy 6)");
-  if (rosy != 6) fail("rosy must be 6 (triangles), got " + std::to_string(rosy));
+  if (rosy != 6 && rosy != 4)
+    fail("rosy must be 6 (triangles) or 4 (quads), got " + std::to_string(rosy));
   if (dSing && !(std::isfinite(*dSing) && *dSing >= 0.0))
     fail("singularity distance d_sing must be a finite number ≥ 0, got " + std::to_string(*dSing));
   if (!(featureAngle >= 0.0 && featureAngle <= 180.0))
@@ -66,6 +64,14 @@ void addTiming(Timings& timings, const std::string& step, double seconds) {
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// The remesh measured against `reference`: its quads and their triangles for N = 4, its
+/// triangles for N = 6.
+QualityReport measureRemesh(const Remesh& remesh, const TriMesh& reference) {
+  return remesh.quads.faceCount() > 0
+             ? measurePolygonQuality(remesh.quads, remesh.triangles, &reference)
+             : measureQuality(remesh.triangles, &reference);
 }
 
 /// |V − K| / K below which a run meets the target vertex count (the promise is 10%).
@@ -400,8 +406,8 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
     bool takeCompatible = essentials(compatible) < essentials(chosen);
     if (essentials(compatible) == essentials(chosen)) {
       start = Clock::now();
-      QualityReport all = measureQuality(chosen.best.remesh.triangles, &reference);
-      QualityReport fewer = measureQuality(compatible.best.remesh.triangles, &reference);
+      QualityReport all = measureRemesh(chosen.best.remesh, reference);
+      QualityReport fewer = measureRemesh(compatible.best.remesh, reference);
       addTiming(result.timings, "metrics", secondsSince(start));
       const auto toGoals = [&](const QualityReport& q) {
         return q.angleSd / kGoalAngleSd + q.distance->hausdorffPct / kGoalHausdorffPct;
@@ -430,7 +436,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   context.report("metrics", 0.0);
   if (!metrics) {
     const auto start = Clock::now();
-    metrics = measureQuality(result.remesh.triangles, &reference);
+    metrics = measureRemesh(result.remesh, reference);
     addTiming(result.timings, "metrics", secondsSince(start));
   }
   result.metrics = std::move(*metrics);

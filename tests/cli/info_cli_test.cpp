@@ -1,5 +1,5 @@
-// The `hexcover info`, `hexcover convert`, `hexcover field` and `hexcover param` commands, run as
-// the built binary (HEXCOVER_CLI).
+// The `hexcover info`, `hexcover convert`, `hexcover field`, `hexcover param` and (quads)
+// `hexcover remesh` commands, run as the built binary (HEXCOVER_CLI).
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -158,6 +158,26 @@ TEST_F(CliTest, FieldPrintsSingularitiesWhoseIndicesSumToTheEulerCharacteristic)
   const CommandResult refused = hexcover("field '" + path.string() + "' --max-merged-index -1");
   EXPECT_EQ(refused.status, 2) << "a usage error";
   EXPECT_NE(refused.err.find("--max-merged-index"), std::string::npos) << refused.err;
+}
+
+TEST_F(CliTest, RemeshWithRosyFourWritesQuadsAndRefusesAHexagonalDual) {
+  const auto path = dir_ / "sphere.obj", out = dir_ / "quads.obj", metrics = dir_ / "m.json";
+  writeMesh(toPolygonSoup(makeIcosphere(4)), path);
+  const CommandResult run =
+      hexcover("remesh '" + path.string() + "' -o '" + out.string() +
+               "' --rosy 4 --vertices 600 --quiet --metrics '" + metrics.string() + "'");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const PolygonSoup quads = readMesh(out);
+  ASSERT_GT(quads.faceCount(), 0u);
+  for (std::size_t f = 0; f < quads.faceCount(); ++f) ASSERT_EQ(quads.faceSize(f), 4u);
+  const nlohmann::json json = nlohmann::json::parse(slurp(metrics));
+  EXPECT_EQ(json["quads"].get<std::size_t>(), quads.faceCount());
+  EXPECT_EQ(json["irregular_interior"], 8) << "the sphere's eight +1/4 cones";
+  EXPECT_GT(json["extraction"]["lattice_squares"].get<long long>(), 0);
+  const CommandResult hex = hexcover("remesh '" + path.string() + "' -o '" + out.string() +
+                                     "' --rosy 4 --hex '" + (dir_ / "hex.obj").string() + "'");
+  EXPECT_EQ(hex.status, 2) << "a usage error";
+  EXPECT_NE(hex.err.find("--hex"), std::string::npos) << hex.err;
 }
 
 TEST_F(CliTest, ParamClustersSingularitiesAtSixEdgeLengthsUnlessToldOtherwise) {

@@ -14,9 +14,14 @@
 #include "core/extract/extract.h"
 #include "core/mesh/primitives.h"
 #include "core/mesh/topology.h"
+#include "tests/common/lattice_parameterizations.h"
 
 namespace hexcover {
 namespace {
+
+using test::coneFan;
+using test::fillTransitions;
+using test::flatTorusParameterization;
 
 constexpr double kSqrt3 = 1.7320508075688772;
 
@@ -24,31 +29,6 @@ constexpr double kSqrt3 = 1.7320508075688772;
 Eigen::Vector2d latticeFromPlane(double x, double y) {
   const double b = y / (kSqrt3 / 2);
   return {x - b / 2, b};
-}
-
-/// The 60° rotation in lattice coordinates, k times.
-Eigen::Vector2d rotate60(Eigen::Vector2d z, int k) {
-  for (int i = 0; i < ((k % 6) + 6) % 6; ++i) z = Eigen::Vector2d(-z.y(), z.x() + z.y());
-  return z;
-}
-
-/// Fills the transitions of `param` from its corner coordinates, given each edge's rotation.
-void fillTransitions(const TriMesh& mesh, Parameterization& param,
-                     const std::function<int(TriMesh::EdgeHandle)>& rotation) {
-  param.edgeTransition.assign(mesh.n_edges(), {});
-  param.cutEdge.assign(mesh.n_edges(), false);
-  for (const auto e : mesh.edges()) {
-    if (mesh.is_boundary(e)) continue;
-    const auto h0 = mesh.halfedge_handle(e, 0), h1 = mesh.halfedge_handle(e, 1);
-    const int r = rotation(e);
-    // to_vertex(h0) = from_vertex(h1): its coordinates in f1 are those of prev(h1).
-    const Eigen::Vector2d in0 = param.cornerCoords[h0.idx()];
-    const Eigen::Vector2d in1 = param.cornerCoords[mesh.prev_halfedge_handle(h1).idx()];
-    const Eigen::Vector2d t = in1 - rotate60(in0, r);
-    param.edgeTransition[e.idx()] = {r, {static_cast<int>(std::lround(t.x())),
-                                         static_cast<int>(std::lround(t.y()))}};
-    param.cutEdge[e.idx()] = r != 0 || t.norm() > 0.5;
-  }
 }
 
 /// A parameterization without cuts: lattice coordinates as a function of the vertex position.
@@ -295,29 +275,6 @@ TEST(ExtractSynthetic, BoundarySliversAreCollapsedOrFlippedAtTheCostOfTwoValence
   EXPECT_TRUE(allFacesUp(with.triangles));
 }
 
-/// Torus of `around` × `tube` quads with the flat parameterization z(i, j) = i/around · P1 +
-/// j/tube · P2 (P1, P2 integer lattice vectors): seamless, with pure translations P1 and P2
-/// across the two cuts.
-Parameterization flatTorusParameterization(const TriMesh& torus, int around, int tube,
-                                           const Eigen::Vector2d& p1, const Eigen::Vector2d& p2) {
-  Parameterization param;
-  param.edgeLength = 1.0;
-  param.cornerCoords.assign(torus.n_halfedges(), Eigen::Vector2d::Zero());
-  for (const auto f : torus.faces()) {
-    const auto h0 = torus.halfedge_handle(f);
-    const int base = torus.to_vertex_handle(h0).idx();
-    const int i0 = base / tube, j0 = base % tube;
-    for (const auto h : torus.fh_range(f)) {
-      const int v = torus.to_vertex_handle(h).idx();
-      const int di = ((v / tube - i0 + around + 1) % around) - 1;
-      const int dj = ((v % tube - j0 + tube + 1) % tube) - 1;
-      param.cornerCoords[h.idx()] = double(i0 + di) / around * p1 + double(j0 + dj) / tube * p2;
-    }
-  }
-  fillTransitions(torus, param, [](auto) { return 0; });
-  return param;
-}
-
 TEST(ExtractSynthetic, FlatTorusGivesAClosedRegularGenusOneMeshWithOneVertexPerLatticePoint) {
   const int around = 50, tube = 8;
   const TriMesh torus = makeTorus(10.0, 1.0, around, tube);
@@ -350,40 +307,6 @@ TEST(ExtractSynthetic, FlatTorusGivesAClosedRegularGenusOneMeshWithOneVertexPerL
     const Eigen::Vector3d core = 10.0 * Eigen::Vector3d(c.x(), c.y(), 0).normalized();
     ASSERT_GT(toEigen(out.calc_face_normal(f)).dot(c - core), 0.0);
   }
-}
-
-/// A fan of n planar triangles around the origin with the lattice triangle of side `side` in
-/// each, rotated by 60° from face to face: the transition across the last spoke rotates by
-/// 6 - n (mod 6), a singularity of index (6 - n)/6 at the center.
-std::pair<TriMesh, Parameterization> coneFan(int n, int side) {
-  TriMesh mesh;
-  const auto center = mesh.add_vertex({0, 0, 0});
-  std::vector<TriMesh::VertexHandle> ring;
-  for (int i = 0; i < n; ++i)
-    ring.push_back(mesh.add_vertex({std::cos(2 * M_PI * i / n), std::sin(2 * M_PI * i / n), 0}));
-  for (int i = 0; i < n; ++i) mesh.add_face(center, ring[i], ring[(i + 1) % n]);
-  Parameterization param;
-  param.edgeLength = 1.0;
-  param.cornerCoords.assign(mesh.n_halfedges(), Eigen::Vector2d::Zero());
-  for (const auto f : mesh.faces()) {
-    const int i = f.idx();
-    for (const auto h : mesh.fh_range(f)) {
-      const auto v = mesh.to_vertex_handle(h);
-      Eigen::Vector2d z = Eigen::Vector2d::Zero();
-      if (v == ring[i]) z = rotate60(Eigen::Vector2d(side, 0), i);
-      if (v == ring[(i + 1) % n]) z = rotate60(Eigen::Vector2d(side, 0), i + 1);
-      param.cornerCoords[h.idx()] = z;
-    }
-  }
-  // Spoke i+1 is shared by faces i and i+1 with the same coordinates, except the last spoke.
-  const auto spoke0 = mesh.find_halfedge(center, ring[0]);
-  fillTransitions(mesh, param, [&](TriMesh::EdgeHandle e) {
-    if (e != mesh.edge_handle(spoke0)) return 0;
-    // The face of halfedge(e,0) is face n-1 (coords R^n e1) or face 0 (coords e1).
-    const auto f0 = mesh.face_handle(mesh.halfedge_handle(e, 0));
-    return f0.idx() == n - 1 ? (6 - n % 6) % 6 : n % 6;
-  });
-  return {std::move(mesh), std::move(param)};
 }
 
 TEST(ExtractSynthetic, PositiveConeHasValenceFiveAtItsSingularityOnly) {

@@ -101,10 +101,6 @@ try {
 
   const response = await page.goto(`${server.url}/`);
   assert.equal(response.status(), 200, 'GET / serves the page');
-  // Quads (rosy 4) are refused by the API until the extraction builds them: the page must not
-  // offer a choice that always fails.
-  assert.equal(await page.locator('#rosy option[value="4"]').isDisabled(), true, 'quads not offered');
-  assert.equal(await page.locator('#rosy').inputValue(), '6', 'triangles selected');
   await page.setInputFiles('#mesh-file', args.mesh);
   await page.waitForFunction(() => document.getElementById('status').textContent.startsWith('Ready'), null, { timeout: 20_000 });
   const uploadStarted = Date.now();
@@ -197,6 +193,25 @@ try {
   assert.deepEqual(coarseWarnings, coarse.warnings, 'warnings list = metrics warnings');
   assert.equal(await page.evaluate(() => document.getElementById('warnings').hidden), false);
   console.log(`warnings at 20 vertices: ${coarseWarnings.length} shown`);
+
+  // A third job with quads (rosy 4): the viewer shows the quad remesh, and its valence counts
+  // (3 and 5 around a regular 4) are the metrics' irregular vertices.
+  await page.fill('#target-value', '');
+  await page.selectOption('#rosy', '4');
+  await page.click('#submit');
+  await page.waitForFunction(
+    (previous) => (document.body.dataset.state === 'shown' && document.body.dataset.jobId !== previous) ||
+      document.getElementById('status').classList.contains('error'),
+    coarseId, { timeout: kJobTimeoutMs, polling: 250 });
+  const quadId = await page.getAttribute('body', 'data-job-id');
+  assert.notEqual(quadId, coarseId, `quad job did not succeed: ${await page.textContent('#status')}`);
+  const quadMetrics = await (await fetch(`${server.url}/v1/jobs/${quadId}/metrics`)).json();
+  assert.ok(quadMetrics.quads > 0.9 * quadMetrics.faces, `mostly quads: ${quadMetrics.quads} of ${quadMetrics.faces}`);
+  assert.ok((await page.textContent('#count-below')).startsWith('valence ≤3'), 'quads count valence 3 as below');
+  const quadIrregular = (await countOf('#count-below')) + (await countOf('#count-above'));
+  assert.equal(quadIrregular, quadMetrics.irregular_interior,
+    `quad irregular vertices: page ${quadIrregular}, metrics ${quadMetrics.irregular_interior}`);
+  console.log(`quads: ${quadMetrics.quads} of ${quadMetrics.faces} faces, ${quadIrregular} irregular vertices`);
   assert.deepEqual(pageErrors, [], 'no uncaught errors in the page');
   console.log('PASS');
 } catch (error) {

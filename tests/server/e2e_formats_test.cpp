@@ -52,6 +52,44 @@ TEST(EndToEnd, GeneratedIcosphereInEveryFormatRawAndMultipartRemeshesWithParsabl
   remeshAllAndCheck(inputs);
 }
 
+TEST(EndToEnd, QuadJobOffersTheQuadRemeshInEveryFormatAndNoHexagons) {
+  HEXCOVER_SERVER_OR_SKIP();
+  TempDir dir;
+  ServerProcess server(dir.path() / "data");
+  ASSERT_TRUE(server.started()) << server.log();
+  auto client = server.client();
+  const auto path = writeIcosphere(dir.path(), "icosphere.obj", 3);
+  const auto res = upload(client, readFile(path), false, "icosphere.obj", "?rosy=4&vertices=300");
+  ASSERT_TRUE(res);
+  ASSERT_EQ(res->status, 202) << res->body;
+  const auto job = waitForJob(client, res->get_header_value("Location"), std::chrono::seconds(60));
+  ASSERT_EQ(job.value("state", ""), "succeeded") << job.dump();
+  const std::string self = job.at("links").at("self");
+  const auto metrics = nlohmann::json::parse(client.Get((self + "/metrics").c_str())->body);
+  EXPECT_FALSE(metrics.contains("hexagons"));
+  const long long faces = metrics.at("faces"), quads = metrics.at("quads");
+  EXPECT_EQ(quads, faces) << "a closed sphere: quads only";
+  EXPECT_EQ(metrics.at("irregular_interior"), 8);
+  for (const std::string format : {"obj", "ply", "off"}) {
+    const auto download = client.Get((self + "/result?mesh=quads&format=" + format).c_str());
+    ASSERT_TRUE(download && download->status == 200) << format;
+    const auto file = dir.path() / ("quads." + format);
+    std::ofstream(file, std::ios::binary) << download->body;
+    const PolygonSoup soup = readMesh(file);
+    EXPECT_EQ(static_cast<long long>(soup.faceCount()), faces) << format;
+    for (std::size_t f = 0; f < soup.faceCount(); ++f) ASSERT_EQ(soup.faceSize(f), 4u) << format;
+  }
+  // The triangles of the same remesh: two per quad.
+  const auto triangles = client.Get((self + "/result?mesh=triangles&format=obj").c_str());
+  ASSERT_TRUE(triangles && triangles->status == 200);
+  const auto file = dir.path() / "triangles.obj";
+  std::ofstream(file, std::ios::binary) << triangles->body;
+  EXPECT_EQ(static_cast<long long>(readMesh(file).faceCount()), 2 * quads);
+  const auto hexagons = client.Get((self + "/result?mesh=hexagons&format=obj").c_str());
+  ASSERT_TRUE(hexagons);
+  EXPECT_EQ(hexagons->status, 404);
+}
+
 TEST(EndToEnd, SharedCleanMeshOfEachStoredFormatRemeshesWithParsableResults) {
   HEXCOVER_SERVER_OR_SKIP();
   // clean/ stores OBJ and OFF; the smallest of each keeps the suite fast.

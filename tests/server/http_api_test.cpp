@@ -353,7 +353,7 @@ TEST(HttpApi, ResultQueryIsValidatedAndUnfinishedJobsHaveNoResults) {
   const std::string location =
       client.Post("/v1/jobs", kTriangle, "model/obj")->get_header_value("Location");
   expectProblem(client.Get((location + "/result?format=fbx").c_str()), 400, "format");
-  expectProblem(client.Get((location + "/result?mesh=quads").c_str()), 400, "mesh");
+  expectProblem(client.Get((location + "/result?mesh=pentagons").c_str()), 400, "mesh");
   expectProblem(client.Get((location + "/result").c_str()), 409);
   expectProblem(client.Get((location + "/metrics").c_str()), 409);
   server.engine.gateOpen = true;

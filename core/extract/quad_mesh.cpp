@@ -1,0 +1,252 @@
+#include "core/extract/quad_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <tuple>
+#include <utility>
+
+namespace hexcover::extract_detail {
+namespace {
+
+using VH = TriMesh::VertexHandle;
+
+/// A centred vertex's projection onto the input lies within this many local edge lengths of the
+/// centroid of its neighbours, and its triangles come at most this many farther from the input.
+constexpr double kCentreReach = 0.5;
+constexpr double kCentreDeviation = 0.02;
+/// Quad corners may deviate from 90° (triangle corners from 60°) by this many degrees before the
+/// fit's moves are taken back, a fraction at a time, over kRestorePasses passes.
+constexpr double kQuadCornerDeviation = 45.0;
+constexpr std::array<double, 2> kRestoreFractions{0.5, 1.0};
+constexpr int kRestorePasses = 2;
+
+}  // namespace
+
+PolygonSoup pairSquares(const TriMesh& triangles, const std::vector<std::array<int, 4>>& squares,
+                        const std::vector<VH>& vertexOf) {
+  PolygonSoup quads;
+  quads.positions.reserve(triangles.n_vertices());
+  for (const auto v : triangles.vertices()) quads.positions.push_back(toEigen(triangles.point(v)));
+  std::vector<bool> paired(triangles.n_faces(), false);
+  for (const auto& square : squares) {
+    std::array<VH, 4> v;
+    for (int k = 0; k < 4; ++k) v[k] = vertexOf[square[k]];
+    if (!std::all_of(v.begin(), v.end(), [](VH h) { return h.is_valid(); })) continue;
+    // Triangle (0, 2, 3) holds the diagonal 0 -> 2, triangle (0, 1, 2) its opposite 2 -> 0.
+    const auto h = triangles.find_halfedge(v[0], v[2]);
+    if (!h.is_valid() || triangles.is_boundary(h) ||
+        triangles.is_boundary(triangles.opposite_halfedge_handle(h)))
+      continue;
+    const auto o = triangles.opposite_halfedge_handle(h);
+    const auto f = triangles.face_handle(h), g = triangles.face_handle(o);
+    if (paired[f.idx()] || paired[g.idx()] ||
+        triangles.to_vertex_handle(triangles.next_halfedge_handle(h)) != v[3] ||
+        triangles.to_vertex_handle(triangles.next_halfedge_handle(o)) != v[1])
+      continue;
+    paired[f.idx()] = paired[g.idx()] = true;
+    quads.addFace(std::array<int, 4>{v[0].idx(), v[1].idx(), v[2].idx(), v[3].idx()});
+  }
+  for (const auto f : triangles.faces()) {
+    if (paired[f.idx()]) continue;
+    std::array<int, 3> t;
+    int k = 0;
+    for (const auto v : triangles.fv_range(f)) t[k++] = v.idx();
+    quads.addFace(t);
+  }
+  return quads;
+}
+
+namespace {
+
+/// The polygons at each vertex of a polygon mesh, its neighbours along polygon edges, and its
+/// boundary vertices (on an edge of one polygon only).
+struct PolygonAdjacency {
+  std::vector<std::vector<int>> polygons, neighbours;
+  std::vector<bool> onBoundary;
+
+  explicit PolygonAdjacency(const PolygonSoup& soup)
+      : polygons(soup.vertexCount()),
+        neighbours(soup.vertexCount()),
+        onBoundary(soup.vertexCount(), false) {
+    std::map<std::pair<int, int>, int> edgeUses;
+    for (std::size_t f = 0; f < soup.faceCount(); ++f) {
+      const std::size_t size = soup.faceSize(f);
+      for (std::size_t k = 0; k < size; ++k) {
+        const int a = static_cast<int>(soup.cornerVertices[soup.faceStarts[f] + k]);
+        const int b = static_cast<int>(soup.cornerVertices[soup.faceStarts[f] + (k + 1) % size]);
+        polygons[a].push_back(static_cast<int>(f));
+        if (++edgeUses[{std::min(a, b), std::max(a, b)}] == 1) {
+          neighbours[a].push_back(b);
+          neighbours[b].push_back(a);
+        }
+      }
+    }
+    for (const auto& [edge, uses] : edgeUses)
+      if (uses == 1) onBoundary[edge.first] = onBoundary[edge.second] = true;
+  }
+};
+
+/// Largest deviation of a corner angle of v's polygons from its ideal (90° in a quad, 60° in a
+/// triangle), in degrees, with v at p.
+double worstCorner(const PolygonSoup& soup, const PolygonAdjacency& adjacency, int v,
+                   const Eigen::Vector3d& p) {
+  double worst = 0.0;
+  for (const int f : adjacency.polygons[v]) {
+    const std::size_t size = soup.faceSize(f);
+    const auto at = [&](std::size_t k) -> Eigen::Vector3d {
+      const int w = static_cast<int>(soup.cornerVertices[soup.faceStarts[f] + k % size]);
+      return w == v ? p : soup.positions[w];
+    };
+    const double ideal = size == 4 ? 90.0 : 60.0;
+    for (std::size_t k = 0; k < size; ++k) {
+      const Eigen::Vector3d u = at(k + size - 1) - at(k), w = at(k + 1) - at(k);
+      worst =
+          std::max(worst, std::abs(std::atan2(u.cross(w).norm(), u.dot(w)) * 180.0 / M_PI - ideal));
+    }
+  }
+  return worst;
+}
+
+void moveVertex(PolygonSoup& quads, TriMesh& triangles, int v, const Eigen::Vector3d& p) {
+  quads.positions[v] = p;
+  triangles.set_point(VH(v), toOpenMesh(p));
+}
+
+}  // namespace
+
+long long mergeTrianglePairs(PolygonSoup& quads) {
+  // Candidate pairs: two triangles sharing an edge a–b, as the quad (a, d, b, c) with c and d their
+  // third corners; best (smallest worst corner deviation from 90°) first.
+  std::map<std::pair<int, int>, std::vector<std::pair<int, int>>> edgeTriangles;  // (face, k)
+  for (std::size_t f = 0; f < quads.faceCount(); ++f) {
+    if (quads.faceSize(f) != 3) continue;
+    for (int k = 0; k < 3; ++k) {
+      const int a = static_cast<int>(quads.cornerVertices[quads.faceStarts[f] + k]);
+      const int b = static_cast<int>(quads.cornerVertices[quads.faceStarts[f] + (k + 1) % 3]);
+      edgeTriangles[{std::min(a, b), std::max(a, b)}].push_back({static_cast<int>(f), k});
+    }
+  }
+  const auto corner = [&](int f, int k) {
+    return static_cast<int>(quads.cornerVertices[quads.faceStarts[f] + (k % 3)]);
+  };
+  struct Candidate {
+    double worst;
+    int first, second;
+    std::array<int, 4> quad;
+  };
+  std::vector<Candidate> candidates;
+  for (const auto& [edge, sides] : edgeTriangles) {
+    if (sides.size() != 2) continue;
+    const auto [f, k] = sides[0];
+    const auto [g, l] = sides[1];
+    // f runs a -> b at corner k, g runs b -> a: the quad is a, (g's third), b, (f's third).
+    const std::array<int, 4> quad{corner(f, k), corner(g, l + 2), corner(f, k + 1),
+                                  corner(f, k + 2)};
+    if (corner(g, l) != quad[2] || corner(g, l + 1) != quad[0]) continue;  // opposite orientation
+    double worst = 0.0;
+    for (int i = 0; i < 4; ++i) {
+      const Eigen::Vector3d& p = quads.positions[quad[i]];
+      const Eigen::Vector3d u = quads.positions[quad[(i + 3) % 4]] - p,
+                            w = quads.positions[quad[(i + 1) % 4]] - p;
+      worst =
+          std::max(worst, std::abs(std::atan2(u.cross(w).norm(), u.dot(w)) * 180.0 / M_PI - 90.0));
+    }
+    if (worst <= kQuadCornerDeviation) candidates.push_back({worst, f, g, quad});
+  }
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& x, const Candidate& y) {
+    return x.worst < y.worst ||
+           (x.worst == y.worst && std::tie(x.first, x.second) < std::tie(y.first, y.second));
+  });
+  std::vector<bool> merged(quads.faceCount(), false);
+  PolygonSoup result;
+  result.positions = quads.positions;
+  long long merges = 0;
+  for (const auto& c : candidates) {
+    if (merged[c.first] || merged[c.second]) continue;
+    merged[c.first] = merged[c.second] = true;
+    result.addFace(c.quad);
+    ++merges;
+  }
+  for (std::size_t f = 0; f < quads.faceCount(); ++f) {
+    if (merged[f]) continue;
+    std::vector<std::uint32_t> polygon(quads.cornerVertices.begin() + quads.faceStarts[f],
+                                       quads.cornerVertices.begin() + quads.faceStarts[f + 1]);
+    result.addFace(polygon);
+  }
+  quads = std::move(result);
+  return merges;
+}
+
+long long restoreQuadCorners(PolygonSoup& quads, TriMesh& triangles,
+                             const std::vector<Eigen::Vector3d>& unfitted) {
+  const PolygonAdjacency adjacency(quads);
+  long long moves = 0;
+  for (int pass = 0; pass < kRestorePasses; ++pass) {
+    for (std::size_t i = 0; i < quads.vertexCount(); ++i) {
+      const int v = static_cast<int>(i);
+      const Eigen::Vector3d current = quads.positions[v];
+      const double before = worstCorner(quads, adjacency, v, current);
+      if (before <= kQuadCornerDeviation || current == unfitted[v]) continue;
+      double best = before;
+      Eigen::Vector3d bestPosition = current;
+      for (const double t : kRestoreFractions) {
+        const Eigen::Vector3d p = current + t * (unfitted[v] - current);
+        const double after = worstCorner(quads, adjacency, v, p);
+        if (after < best) best = after, bestPosition = p;
+        if (best <= kQuadCornerDeviation) break;
+      }
+      if (bestPosition == current) continue;
+      moveVertex(quads, triangles, v, bestPosition);
+      ++moves;
+    }
+  }
+  return moves;
+}
+
+long long centreIrregularVertices(PolygonSoup& quads, TriMesh& triangles,
+                                  const ClosestPointQuery& input) {
+  const PolygonAdjacency adjacency(quads);
+  // Largest distance to the input of v's triangles' centroids and v's edge midpoints (the parts
+  // of the remesh a move of v moves most), with v at p.
+  const auto deviation = [&](int v, const Eigen::Vector3d& p) {
+    const VH vh(v);
+    double largest = 0.0;
+    for (const auto f : triangles.vf_range(vh)) {
+      Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+      for (const auto w : triangles.fv_range(f))
+        centroid += w == vh ? p : toEigen(triangles.point(w));
+      largest = std::max(largest, input.closest(centroid / 3.0).distance);
+    }
+    for (const auto w : triangles.vv_range(vh))
+      largest = std::max(largest, input.closest(0.5 * (p + toEigen(triangles.point(w)))).distance);
+    return largest;
+  };
+  long long moves = 0;
+  for (std::size_t i = 0; i < quads.vertexCount(); ++i) {
+    const int v = static_cast<int>(i);
+    const auto& around = adjacency.neighbours[v];
+    if (adjacency.onBoundary[v] || around.size() == 4 || around.size() < 3) continue;
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    double length = 0.0;
+    for (const int w : around) {
+      centroid += quads.positions[w];
+      length += (quads.positions[w] - quads.positions[v]).norm();
+    }
+    centroid /= static_cast<double>(around.size());
+    length /= static_cast<double>(around.size());
+    const Eigen::Vector3d current = quads.positions[v];
+    const Eigen::Vector3d p = input.closest(centroid).point;
+    // Kept when the corners improve, the projection stays near the centroid (no jump to another
+    // sheet of a thin part) and the remesh around v comes no farther from the input.
+    if ((p - centroid).norm() > kCentreReach * length ||
+        !(worstCorner(quads, adjacency, v, p) < worstCorner(quads, adjacency, v, current)) ||
+        deviation(v, p) > deviation(v, current) + kCentreDeviation * length)
+      continue;
+    moveVertex(quads, triangles, v, p);
+    ++moves;
+  }
+  return moves;
+}
+
+}  // namespace hexcover::extract_detail

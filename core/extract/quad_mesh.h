@@ -1,0 +1,44 @@
+#pragma once
+// Internal to core/extract: the quad-dominant remesh of the Gauss lattice (N = 4). The lattice's
+// unit squares go through the triangle steps as two triangles each (split along the diagonal
+// (a, b)-(a+1, b+1)); these functions join them again and place the cones.
+
+#include <array>
+#include <vector>
+
+#include "core/geometry/closest_point.h"
+#include "core/mesh/mesh.h"
+
+namespace hexcover::extract_detail {
+
+/// The quad-dominant mesh: each unit square `squares[i]` (corners as assembly vertices, counter-
+/// clockwise) whose triangles (0, 1, 2) and (0, 2, 3) are both faces of `triangles` (`vertexOf`:
+/// each assembly vertex's handle in it) becomes one quad; the other faces stay triangles.
+/// Vertices and positions are those of `triangles`, in its order.
+PolygonSoup pairSquares(const TriMesh& triangles, const std::vector<std::array<int, 4>>& squares,
+                        const std::vector<TriMesh::VertexHandle>& vertexOf);
+
+/// Joins pairs of triangles of `quads` (boundary strips, hole fills) that share an edge into a
+/// quad when its corners deviate from 90° by at most kQuadCornerDeviation, best quads first. A
+/// strip of triangles between a straight lattice front and the boundary becomes a row of quads,
+/// which leaves the front's vertices valence 4. Returns the number of merges.
+long long mergeTrianglePairs(PolygonSoup& quads);
+
+/// The surface fit judges triangles; a quad corner is two of their angles and may reach 180°.
+/// Where a corner of a polygon at a vertex deviates from its ideal (90°, 60° for a triangle) by
+/// more than kQuadCornerDeviation, the vertex moves back towards its position before the fit
+/// (`unfitted`), half or all of the way, whichever makes its worst corner better. `triangles` (the
+/// same vertices) moves along. Returns the number of moves.
+long long restoreQuadCorners(PolygonSoup& quads, TriMesh& triangles,
+                             const std::vector<Eigen::Vector3d>& unfitted);
+
+/// Moves each interior vertex of `quads` whose valence is not 4 (a cone of index ±1/4) to the
+/// centroid of its neighbours along polygon edges, projected onto the input, when that makes its
+/// worst corner better and its triangles come no farther from the input: the lattice point sits
+/// where the parameterization put the singular input vertex, which can leave one corner near
+/// 180° and the others narrow (an icosphere's valence-3 vertices: 176° before, 140° after).
+/// `triangles` moves along. Returns the number of moves.
+long long centreIrregularVertices(PolygonSoup& quads, TriMesh& triangles,
+                                  const ClosestPointQuery& input);
+
+}  // namespace hexcover::extract_detail

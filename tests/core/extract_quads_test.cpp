@@ -1,0 +1,180 @@
+// The quad remesh of the Gauss lattice (N = 4): extraction on parameterizations built by hand (a
+// flat torus, fans of 3 and 5 quarter planes whose 90° transition makes a cone of index +1/4 or
+// -1/4), and the metrics of a polygon mesh.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <map>
+#include <utility>
+#include <vector>
+
+#include "core/extract/extract.h"
+#include "core/extract/quad_mesh.h"
+#include "core/mesh/primitives.h"
+#include "core/mesh/topology.h"
+#include "core/metrics/metrics.h"
+#include "tests/common/lattice_parameterizations.h"
+
+namespace hexcover {
+namespace {
+
+using test::coneFan;
+using test::facesOfSize;
+using test::flatTorusParameterization;
+using test::polygonValences;
+using test::PolygonValences;
+
+TEST(ExtractQuads, FlatTorusGivesOneQuadPerLatticePointAllOfValenceFour) {
+  const int around = 50, tube = 8;
+  const TriMesh torus = makeTorus(10.0, 1.0, around, tube);
+  // Periods (63, 0) along the major circle (2π·10 ≈ 63) and (0, 6) around the tube (2π ≈ 6):
+  // 63·6 = 378 lattice points, and as many unit squares.
+  const auto param = flatTorusParameterization(torus, around, tube, {63, 0}, {0, 6}, 4);
+  const Remesh remesh = extractRemesh(torus, param);
+  EXPECT_EQ(remesh.report.inconsistentVertices, 0);
+  EXPECT_EQ(remesh.report.transitionsCorrected, 0);
+  EXPECT_EQ(remesh.report.latticePoints, 378);
+  EXPECT_EQ(remesh.report.latticeSquares, 378);
+  const PolygonSoup& quads = remesh.quads;
+  EXPECT_EQ(quads.vertexCount(), 378u);
+  EXPECT_EQ(quads.faceCount(), 378u);
+  EXPECT_EQ(facesOfSize(quads, 4), 378);
+  const PolygonValences valences = polygonValences(quads);
+  for (std::size_t v = 0; v < quads.vertexCount(); ++v) {
+    EXPECT_FALSE(valences.onBoundary[v]);
+    EXPECT_EQ(valences.valence[v], 4) << "vertex " << v;
+  }
+  // The triangles behind the quads: two per square, a closed torus.
+  EXPECT_EQ(remesh.triangles.n_faces(), 756u);
+  const MeshTopology topology = computeTopology(remesh.triangles);
+  EXPECT_EQ(topology.genus(), 1);
+  EXPECT_EQ(topology.boundaryLoops, 0);
+  EXPECT_TRUE(topology.manifold);
+  EXPECT_TRUE(remesh.hexDual.positions.empty());
+  // Squares on a torus whose flat metric is off by at most ±10% (major circle) and 5% (tube):
+  // corners within a few degrees of 90°.
+  const QualityReport metrics = measurePolygonQuality(quads, remesh.triangles);
+  EXPECT_EQ(metrics.quads, 378);
+  EXPECT_EQ(metrics.irregularInterior, 0);
+  EXPECT_GT(metrics.angleMin, 80.0);
+  EXPECT_LT(metrics.angleMax, 100.0);
+}
+
+void expectConeOfValence(int n) {
+  const auto [mesh, param] = coneFan(n, 4, 4);
+  ExtractOptions options;
+  options.boundary = BoundaryMode::Lattice;
+  const Remesh remesh = extractRemesh(mesh, param, options);
+  EXPECT_EQ(remesh.report.inconsistentVertices, 0);
+  // Each sector holds the squares (a, b) with a, b ≥ 0 and a + b ≤ 2 whole: 6.
+  EXPECT_EQ(remesh.report.latticeSquares, 6 * n);
+  const PolygonSoup& quads = remesh.quads;
+  EXPECT_EQ(facesOfSize(quads, 4), 6 * n);
+  EXPECT_EQ(quads.faceCount(), static_cast<std::size_t>(6 * n));
+  const PolygonValences valences = polygonValences(quads);
+  int cones = 0;
+  for (std::size_t v = 0; v < quads.vertexCount(); ++v) {
+    if (valences.onBoundary[v]) continue;
+    if (valences.valence[v] == 4) continue;
+    ++cones;
+    EXPECT_EQ(valences.valence[v], n);
+    EXPECT_LT(quads.positions[v].norm(), 1e-12) << "the cone is the fan's center";
+  }
+  EXPECT_EQ(cones, 1);
+  EXPECT_TRUE(computeTopology(remesh.triangles).sameAs(computeTopology(mesh)));
+}
+
+TEST(ExtractQuads, PositiveConeHasValenceThreeAtItsSingularityOnly) { expectConeOfValence(3); }
+
+TEST(ExtractQuads, NegativeConeHasValenceFiveAtItsSingularityOnly) { expectConeOfValence(5); }
+
+/// An n × n grid of unit squares in the plane z = 0, as polygons (quads, or with `split` each
+/// square as the two triangles on either side of its diagonal (i, j)-(i+1, j+1)) and as the
+/// triangle mesh behind them.
+std::pair<PolygonSoup, TriMesh> squareGrid(int n, bool split) {
+  PolygonSoup soup;
+  TriMesh triangles;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      soup.positions.emplace_back(i, j, 0.0);
+      triangles.add_vertex(OpenMesh::Vec3d(i, j, 0.0));
+    }
+  const auto at = [&](int i, int j) { return j * (n + 1) + i; };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const std::array<int, 4> q{at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)};
+      if (split) {
+        soup.addFace(std::array<int, 3>{q[0], q[1], q[2]});
+        soup.addFace(std::array<int, 3>{q[0], q[2], q[3]});
+      } else {
+        soup.addFace(q);
+      }
+      const auto v = [](int k) { return TriMesh::VertexHandle(k); };
+      triangles.add_face(v(q[0]), v(q[1]), v(q[2]));
+      triangles.add_face(v(q[0]), v(q[2]), v(q[3]));
+    }
+  return {std::move(soup), std::move(triangles)};
+}
+
+TEST(ExtractQuads, PolygonMetricsOfAUnitSquareGrid) {
+  const int n = 4;
+  const auto [grid, triangles] = squareGrid(n, /*split=*/false);
+  const QualityReport report = measurePolygonQuality(grid, triangles, &triangles);
+  EXPECT_EQ(report.quads, n * n);
+  EXPECT_EQ(report.faces, n * n);
+  EXPECT_DOUBLE_EQ(report.angleMin, 90.0);
+  EXPECT_DOUBLE_EQ(report.angleMax, 90.0);
+  EXPECT_NEAR(report.angleSd, 0.0, 1e-9);
+  EXPECT_EQ(report.irregularInterior, 0);
+  EXPECT_EQ(report.valenceInterior.at(4), (n - 1) * (n - 1));
+  // Boundary: valence 3 along the sides, 2 at the four corners.
+  EXPECT_EQ(report.valenceBoundary.at(3), 4 * (n - 1));
+  EXPECT_EQ(report.irregularBoundary, 4);
+  EXPECT_DOUBLE_EQ(report.edgeLengthMean, 1.0);
+  EXPECT_NEAR(report.distance->hausdorffPct, 0.0, 1e-9);
+}
+
+TEST(QuadMesh, TrianglePairsOfAGridBecomeItsSquaresAgain) {
+  auto [soup, triangles] = squareGrid(3, /*split=*/true);
+  EXPECT_EQ(extract_detail::mergeTrianglePairs(soup), 9);
+  EXPECT_EQ(soup.faceCount(), 9u);
+  EXPECT_EQ(facesOfSize(soup, 4), 9);
+  const QualityReport report = measurePolygonQuality(soup, triangles);
+  EXPECT_NEAR(report.angleMin, 90.0, 1e-9);
+  EXPECT_NEAR(report.angleMax, 90.0, 1e-9);
+  EXPECT_EQ(report.irregularInterior, 0);
+}
+
+TEST(QuadMesh, TrianglePairWhoseQuadWouldBeFarFromSquareStaysTwoTriangles) {
+  // A kite: the quad (0, 1, 2, 3) has corners of 30° and 150°.
+  PolygonSoup soup;
+  soup.positions = {{0, 0, 0}, {1, -0.27, 0}, {3.7, 0, 0}, {1, 0.27, 0}};
+  soup.addFace(std::array<int, 3>{0, 1, 2});
+  soup.addFace(std::array<int, 3>{0, 2, 3});
+  EXPECT_EQ(extract_detail::mergeTrianglePairs(soup), 0);
+  EXPECT_EQ(facesOfSize(soup, 3), 2);
+}
+
+TEST(QuadMesh, FitMovesThatBendAQuadCornerPastTheBoundAreTakenBack) {
+  auto [quads, triangles] = squareGrid(2, /*split=*/false);
+  std::vector<Eigen::Vector3d> unfitted = quads.positions;
+  // The centre vertex (1, 1) moved by the fit to (1.8, 1.8): the squares beside it open their
+  // corners at (2, 1) and (1, 2) to 166°.
+  const int centre = 4;
+  const Eigen::Vector3d moved(1.8, 1.8, 0.0);
+  quads.positions[centre] = moved;
+  triangles.set_point(TriMesh::VertexHandle(centre), toOpenMesh(moved));
+  EXPECT_GT(measurePolygonQuality(quads, triangles).angleMax, 150.0);
+  EXPECT_EQ(extract_detail::restoreQuadCorners(quads, triangles, unfitted), 1);
+  const QualityReport after = measurePolygonQuality(quads, triangles);
+  EXPECT_LE(after.angleMax, 135.0);
+  EXPECT_GE(after.angleMin, 45.0);
+  EXPECT_EQ(toEigen(triangles.point(TriMesh::VertexHandle(centre))), quads.positions[centre]);
+  // A grid within the bound is left alone.
+  EXPECT_EQ(extract_detail::restoreQuadCorners(quads, triangles, unfitted), 0);
+}
+
+}  // namespace
+}  // namespace hexcover
