@@ -82,6 +82,7 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
   extractLattice(mesh, param, faceComponent, out, report, context);
   std::vector<TriMesh::VertexHandle> vertexOf;
   std::vector<Eigen::Vector3d> unfitted;  // N = 4: vertex positions before the fit
+  std::vector<int> partner;               // N = 4: squarePartners
   {
     ScopedTimer timer(report.timings, "repair and boundary");
     context.report("extract", 0.7);
@@ -93,6 +94,7 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     if (!quads) report.latticePointCopiesMerged = collapseLatticePointCopies(out);
     keepComponentsTooSmallForTheLattice(mesh, faceComponent, componentCount, options, out, report);
     result.triangles = buildMesh(out, report, vertexOf);
+    if (quads) partner = squarePartners(result.triangles, out.squares, vertexOf);
   }
   // A remesh made only of components copied from the input (step 6) is the input as it is:
   // neither fitted nor rid of slivers.
@@ -108,7 +110,7 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
           unfitted.push_back(toEigen(result.triangles.point(v)));
       const auto counts = fitRemeshToSurface(
           mesh, inputQuery, result.triangles, options.featureSnapDistance, options.creaseAngle,
-          options.balanceDeviation, options.threads, kSurfaceFitRounds, /*shapeTriangles=*/!quads);
+          options.balanceDeviation, options.threads, kSurfaceFitRounds, partner);
       report.featureSnaps = counts.snapped;
       report.smoothedVertices = counts.smoothed;
       report.relaxedVertices = counts.relaxed;
@@ -122,7 +124,7 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     }
   }
   if (quads) {
-    result.quads = pairSquares(result.triangles, out.squares, vertexOf);
+    result.quads = pairSquares(result.triangles, partner);
     if (!unfitted.empty()) {
       report.restoredVertices = restoreQuadCorners(result.quads, result.triangles, unfitted);
       report.centredVertices =

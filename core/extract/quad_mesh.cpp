@@ -23,12 +23,10 @@ constexpr int kRestorePasses = 2;
 
 }  // namespace
 
-PolygonSoup pairSquares(const TriMesh& triangles, const std::vector<std::array<int, 4>>& squares,
-                        const std::vector<VH>& vertexOf) {
-  PolygonSoup quads;
-  quads.positions.reserve(triangles.n_vertices());
-  for (const auto v : triangles.vertices()) quads.positions.push_back(toEigen(triangles.point(v)));
-  std::vector<bool> paired(triangles.n_faces(), false);
+std::vector<int> squarePartners(const TriMesh& triangles,
+                                const std::vector<std::array<int, 4>>& squares,
+                                const std::vector<VH>& vertexOf) {
+  std::vector<int> partner(triangles.n_faces(), -1);
   for (const auto& square : squares) {
     std::array<VH, 4> v;
     for (int k = 0; k < 4; ++k) v[k] = vertexOf[square[k]];
@@ -39,20 +37,40 @@ PolygonSoup pairSquares(const TriMesh& triangles, const std::vector<std::array<i
         triangles.is_boundary(triangles.opposite_halfedge_handle(h)))
       continue;
     const auto o = triangles.opposite_halfedge_handle(h);
-    const auto f = triangles.face_handle(h), g = triangles.face_handle(o);
-    if (paired[f.idx()] || paired[g.idx()] ||
+    const int f = triangles.face_handle(h).idx(), g = triangles.face_handle(o).idx();
+    if (partner[f] >= 0 || partner[g] >= 0 ||
         triangles.to_vertex_handle(triangles.next_halfedge_handle(h)) != v[3] ||
         triangles.to_vertex_handle(triangles.next_halfedge_handle(o)) != v[1])
       continue;
-    paired[f.idx()] = paired[g.idx()] = true;
-    quads.addFace(std::array<int, 4>{v[0].idx(), v[1].idx(), v[2].idx(), v[3].idx()});
+    partner[f] = g;
+    partner[g] = f;
   }
+  return partner;
+}
+
+PolygonSoup pairSquares(const TriMesh& triangles, const std::vector<int>& partner) {
+  PolygonSoup quads;
+  quads.positions.reserve(triangles.n_vertices());
+  for (const auto v : triangles.vertices()) quads.positions.push_back(toEigen(triangles.point(v)));
   for (const auto f : triangles.faces()) {
-    if (paired[f.idx()]) continue;
-    std::array<int, 3> t;
-    int k = 0;
-    for (const auto v : triangles.fv_range(f)) t[k++] = v.idx();
-    quads.addFace(t);
+    const int g = partner[f.idx()];
+    if (g >= 0 && g < f.idx()) continue;  // the square went in with its first triangle
+    if (g < 0) {
+      std::array<int, 3> t;
+      int k = 0;
+      for (const auto v : triangles.fv_range(f)) t[k++] = v.idx();
+      quads.addFace(t);
+      continue;
+    }
+    // f's edge shared with g, x -> y, gets g's third corner d between its ends.
+    for (const auto h : triangles.fh_range(f)) {
+      const auto o = triangles.opposite_halfedge_handle(h);
+      if (triangles.face_handle(o).idx() != g) continue;
+      const VH x = triangles.from_vertex_handle(h), y = triangles.to_vertex_handle(h);
+      const VH z = triangles.to_vertex_handle(triangles.next_halfedge_handle(h));
+      const VH d = triangles.to_vertex_handle(triangles.next_halfedge_handle(o));
+      quads.addFace(std::array<int, 4>{x.idx(), d.idx(), y.idx(), z.idx()});
+    }
   }
   return quads;
 }

@@ -11,12 +11,16 @@
 
 namespace hexcover::extract_detail {
 
-/// The quad-dominant mesh: each unit square `squares[i]` (corners as assembly vertices, counter-
-/// clockwise) whose triangles (0, 1, 2) and (0, 2, 3) are both faces of `triangles` (`vertexOf`:
-/// each assembly vertex's handle in it) becomes one quad; the other faces stay triangles.
-/// Vertices and positions are those of `triangles`, in its order.
-PolygonSoup pairSquares(const TriMesh& triangles, const std::vector<std::array<int, 4>>& squares,
-                        const std::vector<TriMesh::VertexHandle>& vertexOf);
+/// Per face of `triangles` (built by buildMesh, `vertexOf` each assembly vertex's handle in it):
+/// the other triangle of its unit square (`squares`, corners as assembly vertices,
+/// counter-clockwise, split into (0, 1, 2) and (0, 2, 3)) when both are faces, else −1.
+std::vector<int> squarePartners(const TriMesh& triangles,
+                                const std::vector<std::array<int, 4>>& squares,
+                                const std::vector<TriMesh::VertexHandle>& vertexOf);
+
+/// The quad-dominant mesh: the two triangles of each square (`partner`, squarePartners) as one
+/// quad, the other faces as triangles; the vertices and positions of `triangles`, in its order.
+PolygonSoup pairSquares(const TriMesh& triangles, const std::vector<int>& partner);
 
 /// Joins pairs of triangles of `quads` (boundary strips, hole fills) that share an edge into a
 /// quad when its corners deviate from 90° by at most kQuadCornerDeviation, best quads first. A

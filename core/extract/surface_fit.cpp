@@ -52,6 +52,9 @@ constexpr std::size_t kRelaxChunk = 64;
 /// kRelaxCreaseDeviation (or, either way, by no more than it did).
 constexpr double kRelaxDeviation = 0.2;
 constexpr double kRelaxCreaseDeviation = 0.1;
+/// N = 4: relaxation's badness of a polygon corner is its deviation from 90° (60° in a triangle)
+/// over this many degrees.
+constexpr double kQuadCornerRoom = 45.0;
 /// Smoothing's trial moves besides the centroid: directions, and steps in local edge lengths.
 constexpr int kTrialDirections = 8;
 constexpr std::array<double, 3> kTrialSteps{0.1, 0.2, 0.35};
@@ -69,8 +72,9 @@ constexpr int kBalanceDivisions = 3;
 class SurfaceFit {
  public:
   SurfaceFit(const TriMesh& input, const ClosestPointQuery& inputQuery, TriMesh& remesh,
-             double creaseAngle, int threads)
+             double creaseAngle, int threads, std::vector<int> squarePartner)
       : remesh_(remesh),
+        partner_(std::move(squarePartner)),
         threads_(threads),
         inputQuery_(inputQuery),
         locked_(remesh.n_vertices(), 0),
@@ -317,6 +321,9 @@ class SurfaceFit {
 
  private:
   TriMesh& remesh_;
+  /// N = 4: per remesh face the other triangle of its lattice square, or −1 (squarePartners);
+  /// empty for the triangle lattice.
+  std::vector<int> partner_;
   int threads_;  ///< for relaxation and the assignment of input points (same result for any count)
   const ClosestPointQuery& inputQuery_;
   std::vector<char> locked_;  ///< per remesh vertex: boundary, isolated or snapped all the way
@@ -413,6 +420,65 @@ class SurfaceFit {
     return classes;
   }
 
+  /// Calls visit(corners) for each polygon at v with v at p, corners counter-clockwise: the quad
+  /// of a lattice square (N = 4: a face and its partner_) or a triangle.
+  template <typename Visit>
+  void forEachPolygon(SVH v, const Vec3& p, const Visit& visit) const {
+    const auto at = [&](OpenMesh::VertexHandle w) { return w == v ? p : position(w); };
+    std::vector<int> squares;  // the squares visited, by their first face
+    for (const auto f : v.faces()) {
+      const int g = partner_.empty() ? -1 : partner_[f.idx()];
+      if (g < 0) {
+        const auto t = facePositions(remesh_, f, v, p);
+        visit(std::vector<Vec3>(t.begin(), t.end()));
+        continue;
+      }
+      const int square = std::min(f.idx(), g);
+      if (std::find(squares.begin(), squares.end(), square) != squares.end()) continue;
+      squares.push_back(square);
+      // f's edge shared with g, x -> y, gets g's third corner between its ends.
+      for (const auto h : f.halfedges())
+        if (h.opp().face().idx() == g)
+          visit(std::vector<Vec3>{at(h.from()), at(h.opp().next().to()), at(h.to()),
+                                  at(h.next().to())});
+    }
+  }
+
+  /// Relaxation's objective at v with v at p: Σ (α − 60°)² over its triangles' angles, or with
+  /// lattice squares (N = 4) Σ (α − 90°)² over their quads' corners (60° in a triangle).
+  double cornerVariance(SVH v, const Vec3& p) const {
+    if (partner_.empty()) return fanAngleVariance(v, p);
+    double sum = 0.0;
+    forEachPolygon(v, p, [&](const std::vector<Vec3>& corners) {
+      const std::size_t n = corners.size();
+      const double ideal = n == 4 ? 90.0 : 60.0;
+      for (std::size_t k = 0; k < n; ++k) {
+        const double d =
+            angleAt(corners[k], corners[(k + 1) % n], corners[(k + n - 1) % n]) - ideal;
+        sum += d * d;
+      }
+    });
+    return sum;
+  }
+
+  /// angleBadness of v's triangles with v at p; with lattice squares (N = 4) the largest deviation
+  /// of a polygon corner from its ideal relative to kQuadCornerRoom (1.5 when a triangle turns by
+  /// more than 60°, as for triangles).
+  double cornerBadness(SVH v, const Vec3& p) const {
+    if (partner_.empty()) return fanAngleBadness(remesh_, v, p);
+    if (fanAngleRange(remesh_, v, p) == std::array<double, 2>{0.0, 180.0}) return 1.5;
+    double worst = 0.0;
+    forEachPolygon(v, p, [&](const std::vector<Vec3>& corners) {
+      const std::size_t n = corners.size();
+      const double ideal = n == 4 ? 90.0 : 60.0;
+      for (std::size_t k = 0; k < n; ++k)
+        worst = std::max(
+            worst,
+            std::abs(angleAt(corners[k], corners[(k + 1) % n], corners[(k + n - 1) % n]) - ideal));
+    });
+    return worst / kQuadCornerRoom;
+  }
+
   /// One relaxation step of v (see surface_fit.h): down the gradient, in v's tangent plane, of
   /// the sum of squared deviations of its triangles' angles from 60° (forward differences),
   /// kRelaxFirstStep local edge lengths halved until the sum drops, projected onto the input.
@@ -421,18 +487,18 @@ class SurfaceFit {
   /// largest fan deviation before relaxation).
   std::optional<Vec3> descentStep(SVH v, double largest) const {
     const Vec3 current = position(v);
-    const double variance = fanAngleVariance(v, current);
+    const double variance = cornerVariance(v, current);
     if (variance < kRelaxMinRms * kRelaxMinRms * 3.0 * v.valence()) return std::nullopt;
     const Vec3 normal = fanNormal(v);
     if (normal.isZero()) return std::nullopt;
     const Vec3 u = normal.unitOrthogonal(), w = normal.cross(u);
     const double length = vertexEdgeLength(v);
     const double h = kGradientStep * length;
-    const Vec3 gradient = (fanAngleVariance(v, current + h * u) - variance) / h * u +
-                          (fanAngleVariance(v, current + h * w) - variance) / h * w;
+    const Vec3 gradient = (cornerVariance(v, current + h * u) - variance) / h * u +
+                          (cornerVariance(v, current + h * w) - variance) / h * w;
     if (!(gradient.norm() > 0.0)) return std::nullopt;
     const Vec3 direction = -gradient.normalized();
-    const double badness = fanAngleBadness(remesh_, v, current);
+    const double badness = cornerBadness(v, current);
     // Within the bounds: each deviation (measure(p, stopAbove)) no larger than its limit or
     // than before the step, which is measured once, when needed.
     const auto noWorse = [&](const auto& measure, const Vec3& p, double limit,
@@ -458,8 +524,8 @@ class SurfaceFit {
     const int hint = assignedInputFace(v);
     for (int k = 0; k < kRelaxSteps; ++k, step *= 0.5) {
       const Vec3 candidate = inputQuery_.closest(current + step * direction, hint).point;
-      if (!(fanAngleVariance(v, candidate) < variance)) continue;
-      if (fanAngleBadness(remesh_, v, candidate) > badness) return std::nullopt;
+      if (!(cornerVariance(v, candidate) < variance)) continue;
+      if (cornerBadness(v, candidate) > badness) return std::nullopt;
       if (withinBounds(candidate)) return candidate;
     }
     return std::nullopt;
@@ -624,10 +690,12 @@ class SurfaceFit {
 SurfaceFitCounts fitRemeshToSurface(const TriMesh& input, const ClosestPointQuery& inputQuery,
                                     TriMesh& remesh, double featureSnapDistance, double creaseAngle,
                                     bool balanceDeviation, int threads, int rounds,
-                                    bool shapeTriangles) {
+                                    const std::vector<int>& squarePartner) {
   SurfaceFitCounts counts;
   if (input.n_faces() == 0 || remesh.n_faces() == 0) return counts;
-  SurfaceFit fit(input, inputQuery, remesh, creaseAngle, threads);
+  SurfaceFit fit(input, inputQuery, remesh, creaseAngle, threads, squarePartner);
+  // Smoothing judges triangles by their distance from 60°: not the halves of lattice squares.
+  const bool shapeTriangles = squarePartner.empty();
   for (int round = 0; round < rounds; ++round) {
     const long long snapped = fit.snapFeatures(featureSnapDistance);
     const long long smoothed = shapeTriangles ? fit.smoothPoorTriangles() : 0;
@@ -635,7 +703,7 @@ SurfaceFitCounts fitRemeshToSurface(const TriMesh& input, const ClosestPointQuer
     counts.smoothed += smoothed;
     if (snapped + smoothed == 0) break;
   }
-  if (shapeTriangles) counts.relaxed = fit.relax();
+  counts.relaxed = fit.relax();
   if (balanceDeviation) counts.balanced = fit.balance();
   return counts;
 }

@@ -50,6 +50,8 @@
 // Boundary vertices are never moved (they lie on the input boundary; see boundary.h for their
 // slides). Deterministic.
 
+#include <vector>
+
 #include "core/geometry/closest_point.h"
 #include "core/mesh/mesh.h"
 
@@ -71,12 +73,13 @@ inline constexpr int kSurfaceFitRounds = 4;
 /// rounds while either moves a vertex, then relaxation on up to `threads` threads, then (with
 /// balanceDeviation) balancing. featureSnapDistance ≤ 0 disables snapping. The input's crease
 /// vertices, which relaxation keeps close, are those with an edge whose dihedral angle is at
-/// least `creaseAngle` degrees (≤ 0: none). `shapeTriangles` false skips smoothing and relaxation,
-/// whose angles aim at 60°: the quad remesh (N = 4) is fitted by snapping and balancing only.
+/// least `creaseAngle` degrees (≤ 0: none). `squarePartner` (N = 4; squarePartners in
+/// quad_mesh.h: per face the other triangle of its lattice square, or −1) makes relaxation aim at
+/// 90° quad corners, and leaves smoothing, which aims at 60° triangles, out.
 SurfaceFitCounts fitRemeshToSurface(const TriMesh& input, const ClosestPointQuery& inputQuery,
                                     TriMesh& remesh, double featureSnapDistance,
                                     double creaseAngle = 0.0, bool balanceDeviation = true,
                                     int threads = 1, int rounds = kSurfaceFitRounds,
-                                    bool shapeTriangles = true);
+                                    const std::vector<int>& squarePartner = {});
 
 }  // namespace hexcover::extract_detail

@@ -12,6 +12,8 @@
 
 #include "core/extract/extract.h"
 #include "core/extract/quad_mesh.h"
+#include "core/extract/surface_fit.h"
+#include "core/geometry/closest_point.h"
 #include "core/mesh/primitives.h"
 #include "core/mesh/topology.h"
 #include "core/metrics/metrics.h"
@@ -174,6 +176,40 @@ TEST(QuadMesh, FitMovesThatBendAQuadCornerPastTheBoundAreTakenBack) {
   EXPECT_EQ(toEigen(triangles.point(TriMesh::VertexHandle(centre))), quads.positions[centre]);
   // A grid within the bound is left alone.
   EXPECT_EQ(extract_detail::restoreQuadCorners(quads, triangles, unfitted), 0);
+}
+
+TEST(QuadMesh, FitRelaxesTheCornersOfAJitteredSquareGridTowardsRightAngles) {
+  const int n = 10;
+  auto [input, inputTriangles] = squareGrid(n, /*split=*/false);
+  auto [quads, triangles] = squareGrid(n, /*split=*/false);
+  // Interior vertices jittered in the plane by up to 0.2 edge lengths (a fixed pattern).
+  int k = 0;
+  for (const auto v : triangles.vertices()) {
+    if (triangles.is_boundary(v)) continue;
+    ++k;
+    triangles.set_point(v, triangles.point(v) + OpenMesh::Vec3d(0.2 * std::sin(1.7 * k),
+                                                                0.2 * std::cos(2.3 * k), 0.0));
+  }
+  // squareGrid splits square i into faces 2i and 2i + 1.
+  std::vector<int> partner(triangles.n_faces());
+  for (std::size_t f = 0; f < partner.size(); ++f) partner[f] = static_cast<int>(f ^ 1);
+  const auto quadSd = [&](const TriMesh& mesh) {
+    return measurePolygonQuality(extract_detail::pairSquares(mesh, partner), mesh).angleSd;
+  };
+  const double before = quadSd(triangles);
+  ASSERT_GT(before, 8.0);
+  TriMesh asQuads = triangles, asTriangles = triangles;
+  const ClosestPointQuery onInput(inputTriangles);
+  const auto counts = extract_detail::fitRemeshToSurface(
+      inputTriangles, onInput, asQuads, 0.35, kDefaultFeatureAngle, true, 1,
+      extract_detail::kSurfaceFitRounds, partner);
+  EXPECT_GT(counts.relaxed, 0);
+  EXPECT_EQ(counts.smoothed, 0) << "smoothing aims at 60° triangles";
+  EXPECT_LT(quadSd(asQuads), 0.5 * before);
+  // Without the squares, relaxation aims at 60° triangles, which bends the squares further.
+  extract_detail::fitRemeshToSurface(inputTriangles, onInput, asTriangles, 0.35,
+                                     kDefaultFeatureAngle);
+  EXPECT_GT(quadSd(asTriangles), quadSd(asQuads) + 5.0);
 }
 
 }  // namespace
