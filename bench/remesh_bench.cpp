@@ -2,12 +2,15 @@
 // Prints one machine-readable line per run ("remesh mesh=... K=... key=value ...") and a markdown
 // table: output size, each stage's median time over the runs, peak memory and the metrics.
 // Usage: bench_remesh [--runs N] [--only NAME] [--quarter-only] [--subdivide S] [--generated]
+//                     [--rosy 6|4]
 // --subdivide S splits every triangle of the input 1-to-4 S times first (the 1M-face case:
 // --only stanford-bunny --subdivide 2 --quarter-only --runs 1, 1.1M faces). --generated remeshes
 // shapes tessellated as CAD exporters write them instead (core/mesh/primitives.h: a cylinder with
 // fans of slivers for caps, a latitude-longitude sphere, a box of 12 triangles, an L-bracket and
 // a plate with a hole, their faces fanned) at K = 300 and
-// 3000. The "repair s" column includes the refinement before the field.
+// 3000. --rosy 4 remeshes into quads (the angles are then the quads' corners, the irregular
+// vertices those of valence other than 4). The "repair s" column includes the refinement before
+// the field.
 // Never asserts on time.
 
 #include <algorithm>
@@ -100,7 +103,7 @@ int main(int argc, char** argv) {
   int runs = 5;
   std::string only;
   bool quarterOnly = false, generated = false;
-  int subdivisions = 0;
+  int subdivisions = 0, rosy = 6;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--runs") && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
     else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
@@ -109,9 +112,12 @@ int main(int argc, char** argv) {
       subdivisions = std::max(0, std::atoi(argv[++i]));
     else if (!std::strcmp(argv[i], "--generated"))
       generated = true;
+    else if (!std::strcmp(argv[i], "--rosy") && i + 1 < argc &&
+             (!std::strcmp(argv[i + 1], "4") || !std::strcmp(argv[i + 1], "6")))
+      rosy = std::atoi(argv[++i]);
     else {
       std::cerr << "usage: bench_remesh [--runs N] [--only NAME] [--quarter-only] [--subdivide S] "
-                   "[--generated]\n";
+                   "[--generated] [--rosy 6|4]\n";
       return 2;
     }
   }
@@ -167,6 +173,7 @@ int main(int argc, char** argv) {
       row.target = target;
       RemeshOptions options;
       options.targetVertices = target;
+      options.rosy = rosy;
       try {
         for (int r = 0; r < runs; ++r) {
           row.last = remesh(soup, options);

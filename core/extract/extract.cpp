@@ -92,9 +92,17 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     repairNonManifold(out, report);
     // Two copies of one lattice point merge into a cone of the triangle lattice (valence 4).
     if (!quads) report.latticePointCopiesMerged = collapseLatticePointCopies(out);
+    const std::size_t remeshedVertices = out.positions.size();  // then the copied components'
     keepComponentsTooSmallForTheLattice(mesh, faceComponent, componentCount, options, out, report);
     result.triangles = buildMesh(out, report, vertexOf);
-    if (quads) partner = squarePartners(result.triangles, out.squares, vertexOf);
+    if (quads) {
+      partner = squarePartners(result.triangles, out.squares, vertexOf);
+      // A component copied unchanged keeps its triangles.
+      for (std::size_t v = remeshedVertices; v < vertexOf.size(); ++v)
+        if (vertexOf[v].is_valid())
+          for (const auto f : result.triangles.vf_range(vertexOf[v])) partner[f.idx()] = kKeptAsIs;
+      report.mergedTrianglePairs = pairTriangles(result.triangles, partner);
+    }
   }
   // A remesh made only of components copied from the input (step 6) is the input as it is:
   // neither fitted nor rid of slivers.
@@ -130,7 +138,11 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
       report.centredVertices =
           centreIrregularVertices(result.quads, result.triangles, ClosestPointQuery(mesh));
     }
-    report.mergedTrianglePairs = mergeTrianglePairs(result.quads);
+    // Pairs that the fit made square enough.
+    if (const long long more = pairTriangles(result.triangles, partner); more > 0) {
+      report.mergedTrianglePairs += more;
+      result.quads = pairSquares(result.triangles, partner);
+    }
   } else {
     ScopedTimer timer(report.timings, "hexagonal dual");
     context.report("extract", 0.9);

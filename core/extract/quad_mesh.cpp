@@ -26,7 +26,7 @@ constexpr int kRestorePasses = 2;
 std::vector<int> squarePartners(const TriMesh& triangles,
                                 const std::vector<std::array<int, 4>>& squares,
                                 const std::vector<VH>& vertexOf) {
-  std::vector<int> partner(triangles.n_faces(), -1);
+  std::vector<int> partner(triangles.n_faces(), kUnpaired);
   for (const auto& square : squares) {
     std::array<VH, 4> v;
     for (int k = 0; k < 4; ++k) v[k] = vertexOf[square[k]];
@@ -133,67 +133,45 @@ void moveVertex(PolygonSoup& quads, TriMesh& triangles, int v, const Eigen::Vect
 
 }  // namespace
 
-long long mergeTrianglePairs(PolygonSoup& quads) {
-  // Candidate pairs: two triangles sharing an edge a–b, as the quad (a, d, b, c) with c and d their
-  // third corners; best (smallest worst corner deviation from 90°) first.
-  std::map<std::pair<int, int>, std::vector<std::pair<int, int>>> edgeTriangles;  // (face, k)
-  for (std::size_t f = 0; f < quads.faceCount(); ++f) {
-    if (quads.faceSize(f) != 3) continue;
-    for (int k = 0; k < 3; ++k) {
-      const int a = static_cast<int>(quads.cornerVertices[quads.faceStarts[f] + k]);
-      const int b = static_cast<int>(quads.cornerVertices[quads.faceStarts[f] + (k + 1) % 3]);
-      edgeTriangles[{std::min(a, b), std::max(a, b)}].push_back({static_cast<int>(f), k});
-    }
-  }
-  const auto corner = [&](int f, int k) {
-    return static_cast<int>(quads.cornerVertices[quads.faceStarts[f] + (k % 3)]);
-  };
+long long pairTriangles(const TriMesh& triangles, std::vector<int>& partner) {
+  // Candidates: two unpaired triangles sharing an edge a -> b (in f; b -> a in g), as the quad
+  // (a, d, b, c) with c and d their third corners; best (smallest worst corner deviation from
+  // 90°) first.
   struct Candidate {
     double worst;
     int first, second;
-    std::array<int, 4> quad;
   };
   std::vector<Candidate> candidates;
-  for (const auto& [edge, sides] : edgeTriangles) {
-    if (sides.size() != 2) continue;
-    const auto [f, k] = sides[0];
-    const auto [g, l] = sides[1];
-    // f runs a -> b at corner k, g runs b -> a: the quad is a, (g's third), b, (f's third).
-    const std::array<int, 4> quad{corner(f, k), corner(g, l + 2), corner(f, k + 1),
-                                  corner(f, k + 2)};
-    if (corner(g, l) != quad[2] || corner(g, l + 1) != quad[0]) continue;  // opposite orientation
+  for (const auto e : triangles.edges()) {
+    if (triangles.is_boundary(e)) continue;
+    const auto h = triangles.halfedge_handle(e, 0), o = triangles.halfedge_handle(e, 1);
+    const int f = triangles.face_handle(h).idx(), g = triangles.face_handle(o).idx();
+    if (partner[f] != kUnpaired || partner[g] != kUnpaired) continue;
+    const auto at = [&](OpenMesh::HalfedgeHandle k) {
+      return toEigen(triangles.point(triangles.to_vertex_handle(k)));
+    };
+    const std::array<Eigen::Vector3d, 4> quad{at(o), at(triangles.next_halfedge_handle(o)), at(h),
+                                              at(triangles.next_halfedge_handle(h))};
     double worst = 0.0;
     for (int i = 0; i < 4; ++i) {
-      const Eigen::Vector3d& p = quads.positions[quad[i]];
-      const Eigen::Vector3d u = quads.positions[quad[(i + 3) % 4]] - p,
-                            w = quads.positions[quad[(i + 1) % 4]] - p;
+      const Eigen::Vector3d u = quad[(i + 3) % 4] - quad[i], w = quad[(i + 1) % 4] - quad[i];
       worst =
           std::max(worst, std::abs(std::atan2(u.cross(w).norm(), u.dot(w)) * 180.0 / M_PI - 90.0));
     }
-    if (worst <= kQuadCornerDeviation) candidates.push_back({worst, f, g, quad});
+    if (worst <= kQuadCornerDeviation)
+      candidates.push_back({worst, std::min(f, g), std::max(f, g)});
   }
   std::sort(candidates.begin(), candidates.end(), [](const Candidate& x, const Candidate& y) {
-    return x.worst < y.worst ||
-           (x.worst == y.worst && std::tie(x.first, x.second) < std::tie(y.first, y.second));
+    return std::tie(x.worst, x.first, x.second) < std::tie(y.worst, y.first, y.second);
   });
-  std::vector<bool> merged(quads.faceCount(), false);
-  PolygonSoup result;
-  result.positions = quads.positions;
-  long long merges = 0;
+  long long pairs = 0;
   for (const auto& c : candidates) {
-    if (merged[c.first] || merged[c.second]) continue;
-    merged[c.first] = merged[c.second] = true;
-    result.addFace(c.quad);
-    ++merges;
+    if (partner[c.first] != kUnpaired || partner[c.second] != kUnpaired) continue;
+    partner[c.first] = c.second;
+    partner[c.second] = c.first;
+    ++pairs;
   }
-  for (std::size_t f = 0; f < quads.faceCount(); ++f) {
-    if (merged[f]) continue;
-    std::vector<std::uint32_t> polygon(quads.cornerVertices.begin() + quads.faceStarts[f],
-                                       quads.cornerVertices.begin() + quads.faceStarts[f + 1]);
-    result.addFace(polygon);
-  }
-  quads = std::move(result);
-  return merges;
+  return pairs;
 }
 
 long long restoreQuadCorners(PolygonSoup& quads, TriMesh& triangles,

@@ -11,9 +11,14 @@
 
 namespace hexcover::extract_detail {
 
+/// Partner of a face that is no half of a quad: kUnpaired may still be paired (pairTriangles),
+/// kKeptAsIs not (a triangle of an input component copied unchanged).
+inline constexpr int kUnpaired = -1;
+inline constexpr int kKeptAsIs = -2;
+
 /// Per face of `triangles` (built by buildMesh, `vertexOf` each assembly vertex's handle in it):
 /// the other triangle of its unit square (`squares`, corners as assembly vertices,
-/// counter-clockwise, split into (0, 1, 2) and (0, 2, 3)) when both are faces, else −1.
+/// counter-clockwise, split into (0, 1, 2) and (0, 2, 3)) when both are faces, else kUnpaired.
 std::vector<int> squarePartners(const TriMesh& triangles,
                                 const std::vector<std::array<int, 4>>& squares,
                                 const std::vector<TriMesh::VertexHandle>& vertexOf);
@@ -22,11 +27,12 @@ std::vector<int> squarePartners(const TriMesh& triangles,
 /// quad, the other faces as triangles; the vertices and positions of `triangles`, in its order.
 PolygonSoup pairSquares(const TriMesh& triangles, const std::vector<int>& partner);
 
-/// Joins pairs of triangles of `quads` (boundary strips, hole fills) that share an edge into a
-/// quad when its corners deviate from 90° by at most kQuadCornerDeviation, best quads first. A
-/// strip of triangles between a straight lattice front and the boundary becomes a row of quads,
-/// which leaves the front's vertices valence 4. Returns the number of merges.
-long long mergeTrianglePairs(PolygonSoup& quads);
+/// Pairs kUnpaired triangles of `triangles` (`partner`: squarePartners; boundary strips, hole
+/// fills) that share an edge into quads whose corners deviate from 90° by at most
+/// kQuadCornerDeviation, best quads first: a strip of triangles between a straight lattice front
+/// and the boundary becomes a row of quads, which leaves the front's vertices valence 4. Returns
+/// the number of new pairs.
+long long pairTriangles(const TriMesh& triangles, std::vector<int>& partner);
 
 /// The surface fit judges triangles; a quad corner is two of their angles and may reach 180°.
 /// Where a corner of a polygon at a vertex deviates from its ideal (90°, 60° for a triangle) by

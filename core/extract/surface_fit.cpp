@@ -400,8 +400,8 @@ class SurfaceFit {
   /// ones too (relaxation's deviation bounds keep them near their features).
   bool isInterior(SVH v) const { return !remesh_.is_boundary(v) && !remesh_.is_isolated(v); }
 
-  /// The interior vertices in classes of which no two share a triangle (greedy colouring in
-  /// index order).
+  /// The interior vertices in classes of which no two share a triangle, or for N = 4 a quad
+  /// (greedy colouring in index order).
   std::vector<std::vector<int>> independentClasses() const {
     std::vector<int> colour(remesh_.n_vertices(), -1);
     std::vector<std::vector<int>> classes;
@@ -411,6 +411,12 @@ class SurfaceFit {
       taken.assign(classes.size(), 0);
       for (const auto w : v.vertices())
         if (colour[w.idx()] >= 0) taken[colour[w.idx()]] = 1;
+      // N = 4: relaxation reads the whole quad at v, whose far corner is no neighbour of v.
+      if (!partner_.empty())
+        for (const auto f : v.faces())
+          if (const int g = partner_[f.idx()]; g >= 0)
+            for (const auto w : remesh_.fv_range(remesh_.face_handle(g)))
+              if (colour[w.idx()] >= 0) taken[colour[w.idx()]] = 1;
       const auto c =
           static_cast<std::size_t>(std::find(taken.begin(), taken.end(), 0) - taken.begin());
       if (c == classes.size()) classes.emplace_back();
