@@ -1,7 +1,9 @@
 #pragma once
 // Internal to core/extract: the quad-dominant remesh of the Gauss lattice (N = 4). The lattice's
 // unit squares go through the triangle steps as two triangles each (split along the diagonal
-// (a, b)-(a+1, b+1)); these functions join them again and place the cones.
+// (a, b)-(a+1, b+1)). These functions pair the triangles again (for the surface fit's
+// relaxation, which then aims at the quads' corners, and for the output), and mend the corners
+// that the triangle-judged moves bend.
 
 #include <array>
 #include <vector>
@@ -34,7 +36,8 @@ PolygonSoup pairSquares(const TriMesh& triangles, const std::vector<int>& partne
 /// the number of new pairs.
 long long pairTriangles(const TriMesh& triangles, std::vector<int>& partner);
 
-/// The surface fit judges triangles; a quad corner is two of their angles and may reach 180°.
+/// Feature snapping and balancing judge triangles; a quad corner is two of their angles and may
+/// reach 180°.
 /// Where a corner of a polygon at a vertex deviates from its ideal (90°, 60° for a triangle) by
 /// more than kQuadCornerDeviation, the vertex moves back towards its position before the fit
 /// (`unfitted`), half or all of the way, whichever makes its worst corner better. `triangles` (the

@@ -48,7 +48,8 @@
 // input points are its vertices and its face centroids (only vertices are snap targets).
 // Balancing samples (b) on the grid instead.
 // Boundary vertices are never moved (they lie on the input boundary; see boundary.h for their
-// slides). Deterministic.
+// slides). Deterministic. For the quads of the Gauss lattice (N = 4) relaxation aims at 90° quad
+// corners and smoothing is left out (fitRemeshToSurface's squarePartner).
 
 #include <vector>
 
