@@ -36,8 +36,8 @@ PolygonSoup pairSquares(const TriMesh& triangles, const std::vector<int>& partne
 /// the number of new pairs.
 long long pairTriangles(const TriMesh& triangles, std::vector<int>& partner);
 
-/// Feature snapping and balancing judge triangles; a quad corner is two of their angles and may
-/// reach 180°.
+/// The fit's moves may still leave a quad corner far from 90° (a move that makes a worse corner
+/// of its fan better).
 /// Where a corner of a polygon at a vertex deviates from its ideal (90°, 60° for a triangle) by
 /// more than kQuadCornerDeviation, the vertex moves back towards its position before the fit
 /// (`unfitted`), half or all of the way, whichever makes its worst corner better. `triangles` (the

@@ -174,6 +174,8 @@ class SurfaceFit {
         // fan keeps its angles and comes closer to the input.
         const double deviation = fanDeviation(v, position(v));
         const auto acceptable = [&](const Vec3& p) {
+          if (!partner_.empty())
+            return cornerBadness(v, p) <= 1.0 && fanDeviation(v, p) < deviation;
           const auto range = fanAngleRange(remesh_, v, p);
           return range[0] >= kSnapMinAngle && range[1] <= kSnapMaxAngle &&
                  fanDeviation(v, p) < deviation;
@@ -305,10 +307,13 @@ class SurfaceFit {
         if (normal.isZero()) continue;
         const auto [t, after] = searchLine(v, current, normal, kBalanceReach * length);
         const Vec3 candidate = current + t * normal;
-        if (!(after < before) ||
-            fanAngleBadness(remesh_, v, candidate) >
-                std::max(fanAngleBadness(remesh_, v, current), snapWindowBadness))
-          continue;
+        // Quads: corners within kQuadCornerRoom of 90° (badness 1), or no worse than before.
+        const bool anglesKept =
+            partner_.empty()
+                ? fanAngleBadness(remesh_, v, candidate) <=
+                      std::max(fanAngleBadness(remesh_, v, current), snapWindowBadness)
+                : cornerBadness(v, candidate) <= std::max(cornerBadness(v, current), 1.0);
+        if (!(after < before) || !anglesKept) continue;
         remesh_.set_point(v, toOpenMesh(candidate));
         moved_[v.idx()] = 1;
         for (const auto w : v.vertices()) nextVisit[w.idx()] = 1;

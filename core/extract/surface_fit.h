@@ -49,7 +49,9 @@
 // Balancing samples (b) on the grid instead.
 // Boundary vertices are never moved (they lie on the input boundary; see boundary.h for their
 // slides). Deterministic. For the quads of the Gauss lattice (N = 4) relaxation aims at 90° quad
-// corners and smoothing is left out (fitRemeshToSurface's squarePartner).
+// corners, snapping and balancing keep quad corners within 45° of 90° (or no worse) instead of
+// triangle angles in their windows, and smoothing is left out (fitRemeshToSurface's
+// squarePartner).
 
 #include <vector>
 

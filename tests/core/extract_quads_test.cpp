@@ -239,5 +239,39 @@ TEST(QuadMesh, RelaxationOfQuadsGivesTheSameMeshForAnyThreadCount) {
   for (const auto v : one.vertices()) ASSERT_EQ(one.point(v), two.point(v)) << "vertex " << v.idx();
 }
 
+TEST(QuadMesh, FitSnapsQuadsToARidgeWithTheirCornersWithinTheWindow) {
+  // A roof z = −2|x − 2.5| (slopes ±2: its faces meet at 53°) sampled finely, and a coarse grid
+  // of unit squares on it whose columns miss the ridge by half a square. The fit judges the
+  // quads' corners (within 45° of 90°), not their triangles' angles (25-115° each, which no
+  // move onto the ridge keeps): vertices snap or balance, and the corners stay in the window.
+  TriMesh input;
+  const int fine = 100;
+  const auto roof = [](double x, double y) {
+    return OpenMesh::Vec3d(x, y, -2.0 * std::abs(x - 2.5));
+  };
+  for (int j = 0; j <= fine; ++j)
+    for (int i = 0; i <= fine; ++i) input.add_vertex(roof(5.0 * i / fine, 5.0 * j / fine));
+  const auto at = [&](int i, int j) { return TriMesh::VertexHandle(j * (fine + 1) + i); };
+  for (int j = 0; j < fine; ++j)
+    for (int i = 0; i < fine; ++i) {
+      input.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+      input.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+    }
+  TriMesh remesh = squareGrid(5).second;
+  for (const auto v : remesh.vertices()) {
+    const auto p = remesh.point(v);
+    remesh.set_point(v, roof(p[0], p[1]));
+  }
+  const std::vector<int> partner = gridPartners(remesh);
+  const auto counts = extract_detail::fitRemeshToSurface(
+      input, ClosestPointQuery(input), remesh, 0.35, kDefaultFeatureAngle, true, 1,
+      extract_detail::kSurfaceFitRounds, partner);
+  EXPECT_GT(counts.snapped + counts.balanced, 0);
+  const QualityReport report =
+      measurePolygonQuality(extract_detail::pairSquares(remesh, partner), remesh);
+  EXPECT_GE(report.angleMin, 45.0);
+  EXPECT_LE(report.angleMax, 135.0);
+}
+
 }  // namespace
 }  // namespace hexcover
