@@ -1,5 +1,6 @@
 #include "core/extract/extract.h"
 
+#include <optional>
 #include <string>
 
 #include "core/common/error.h"
@@ -83,6 +84,7 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
   std::vector<TriMesh::VertexHandle> vertexOf;
   std::vector<Eigen::Vector3d> unfitted;  // N = 4: vertex positions before the fit
   std::vector<int> partner;               // N = 4: squarePartners
+  std::optional<ClosestPointQuery> inputQuery;  // built for the fit, also read by the quad steps
   {
     ScopedTimer timer(report.timings, "repair and boundary");
     context.report("extract", 0.7);
@@ -112,12 +114,12 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     context.report("extract", 0.8);
     context.throwIfCanceled();
     if (options.fitToSurface && result.triangles.n_faces() > 0) {
-      const ClosestPointQuery inputQuery(mesh);
+      inputQuery.emplace(mesh);
       if (quads)
         for (const auto v : result.triangles.vertices())
           unfitted.push_back(toEigen(result.triangles.point(v)));
       const auto counts = fitRemeshToSurface(
-          mesh, inputQuery, result.triangles, options.featureSnapDistance, options.creaseAngle,
+          mesh, *inputQuery, result.triangles, options.featureSnapDistance, options.creaseAngle,
           options.balanceDeviation, options.threads, kSurfaceFitRounds, partner);
       report.featureSnaps = counts.snapped;
       report.smoothedVertices = counts.smoothed;
@@ -135,8 +137,7 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     result.quads = pairSquares(result.triangles, partner);
     if (!unfitted.empty()) {
       report.restoredVertices = restoreQuadCorners(result.quads, result.triangles, unfitted);
-      report.centredVertices =
-          centreIrregularVertices(result.quads, result.triangles, ClosestPointQuery(mesh));
+      report.centredVertices = centreIrregularVertices(result.quads, result.triangles, *inputQuery);
     }
     // Pairs that the fit made square enough.
     if (const long long more = pairTriangles(result.triangles, partner); more > 0) {

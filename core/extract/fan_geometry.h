@@ -21,6 +21,28 @@ inline double angleAt(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
   return std::atan2(u.cross(w).norm(), u.dot(w)) * 180.0 / M_PI;
 }
 
+/// Quad remeshes (N = 4) keep every polygon corner within this many degrees of its ideal angle.
+inline constexpr double kQuadCornerWindow = 45.0;
+
+/// The ideal angle of a corner of a remesh polygon: 90° in a quad (N = 4), 60° in a triangle.
+inline double idealCornerAngle(std::size_t corners) { return corners == 4 ? 90.0 : 60.0; }
+
+/// Angle at corner k of a polygon (corners counter-clockwise) minus its ideal angle, in degrees.
+template <typename Corners>
+double cornerDeviation(const Corners& corners, std::size_t k) {
+  const std::size_t n = corners.size();
+  return angleAt(corners[k], corners[(k + 1) % n], corners[(k + n - 1) % n]) - idealCornerAngle(n);
+}
+
+/// The largest |cornerDeviation| of a polygon's corners.
+template <typename Corners>
+double worstCornerDeviation(const Corners& corners) {
+  double worst = 0.0;
+  for (std::size_t k = 0; k < corners.size(); ++k)
+    worst = std::max(worst, std::abs(cornerDeviation(corners, k)));
+  return worst;
+}
+
 /// The smallest and largest angle of triangle (p0, p1, p2), in degrees.
 inline std::array<double, 2> angleRange(const std::array<Eigen::Vector3d, 3>& p) {
   std::array<double, 2> range{180.0, 0.0};

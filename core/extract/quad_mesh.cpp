@@ -1,10 +1,11 @@
 #include "core/extract/quad_mesh.h"
 
 #include <algorithm>
-#include <cmath>
 #include <map>
 #include <tuple>
 #include <utility>
+
+#include "core/extract/fan_geometry.h"
 
 namespace hexcover::extract_detail {
 namespace {
@@ -15,11 +16,60 @@ using VH = TriMesh::VertexHandle;
 /// centroid of its neighbours, and its triangles come at most this many farther from the input.
 constexpr double kCentreReach = 0.5;
 constexpr double kCentreDeviation = 0.02;
-/// Quad corners may deviate from 90° (triangle corners from 60°) by this many degrees before the
-/// fit's moves are taken back, a fraction at a time, over kRestorePasses passes.
-constexpr double kQuadCornerDeviation = 45.0;
+/// Fit moves that leave a corner farther than kQuadCornerWindow from its ideal are taken back,
+/// a fraction at a time, over kRestorePasses passes.
 constexpr std::array<double, 2> kRestoreFractions{0.5, 1.0};
 constexpr int kRestorePasses = 2;
+
+/// The polygons at each vertex of a polygon mesh, its neighbours along polygon edges, and its
+/// boundary vertices (on an edge of one polygon only).
+struct PolygonAdjacency {
+  std::vector<std::vector<int>> polygons, neighbours;
+  std::vector<bool> onBoundary;
+
+  explicit PolygonAdjacency(const PolygonSoup& soup)
+      : polygons(soup.vertexCount()),
+        neighbours(soup.vertexCount()),
+        onBoundary(soup.vertexCount(), false) {
+    std::map<std::pair<int, int>, int> edgeUses;
+    for (std::size_t f = 0; f < soup.faceCount(); ++f) {
+      const std::size_t size = soup.faceSize(f);
+      for (std::size_t k = 0; k < size; ++k) {
+        const int a = static_cast<int>(soup.cornerVertices[soup.faceStarts[f] + k]);
+        const int b = static_cast<int>(soup.cornerVertices[soup.faceStarts[f] + (k + 1) % size]);
+        polygons[a].push_back(static_cast<int>(f));
+        if (++edgeUses[{std::min(a, b), std::max(a, b)}] == 1) {
+          neighbours[a].push_back(b);
+          neighbours[b].push_back(a);
+        }
+      }
+    }
+    for (const auto& [edge, uses] : edgeUses)
+      if (uses == 1) onBoundary[edge.first] = onBoundary[edge.second] = true;
+  }
+};
+
+/// Largest deviation of a corner angle of v's polygons from its ideal (worstCornerDeviation), in
+/// degrees, with v at p.
+double worstCorner(const PolygonSoup& soup, const PolygonAdjacency& adjacency, int v,
+                   const Eigen::Vector3d& p) {
+  double worst = 0.0;
+  std::vector<Eigen::Vector3d> corners;
+  for (const int f : adjacency.polygons[v]) {
+    corners.clear();
+    for (std::size_t k = soup.faceStarts[f]; k < soup.faceStarts[f + 1]; ++k) {
+      const int w = static_cast<int>(soup.cornerVertices[k]);
+      corners.push_back(w == v ? p : soup.positions[w]);
+    }
+    worst = std::max(worst, worstCornerDeviation(corners));
+  }
+  return worst;
+}
+
+void moveVertex(PolygonSoup& quads, TriMesh& triangles, int v, const Eigen::Vector3d& p) {
+  quads.positions[v] = p;
+  triangles.set_point(VH(v), toOpenMesh(p));
+}
 
 }  // namespace
 
@@ -75,64 +125,6 @@ PolygonSoup pairSquares(const TriMesh& triangles, const std::vector<int>& partne
   return quads;
 }
 
-namespace {
-
-/// The polygons at each vertex of a polygon mesh, its neighbours along polygon edges, and its
-/// boundary vertices (on an edge of one polygon only).
-struct PolygonAdjacency {
-  std::vector<std::vector<int>> polygons, neighbours;
-  std::vector<bool> onBoundary;
-
-  explicit PolygonAdjacency(const PolygonSoup& soup)
-      : polygons(soup.vertexCount()),
-        neighbours(soup.vertexCount()),
-        onBoundary(soup.vertexCount(), false) {
-    std::map<std::pair<int, int>, int> edgeUses;
-    for (std::size_t f = 0; f < soup.faceCount(); ++f) {
-      const std::size_t size = soup.faceSize(f);
-      for (std::size_t k = 0; k < size; ++k) {
-        const int a = static_cast<int>(soup.cornerVertices[soup.faceStarts[f] + k]);
-        const int b = static_cast<int>(soup.cornerVertices[soup.faceStarts[f] + (k + 1) % size]);
-        polygons[a].push_back(static_cast<int>(f));
-        if (++edgeUses[{std::min(a, b), std::max(a, b)}] == 1) {
-          neighbours[a].push_back(b);
-          neighbours[b].push_back(a);
-        }
-      }
-    }
-    for (const auto& [edge, uses] : edgeUses)
-      if (uses == 1) onBoundary[edge.first] = onBoundary[edge.second] = true;
-  }
-};
-
-/// Largest deviation of a corner angle of v's polygons from its ideal (90° in a quad, 60° in a
-/// triangle), in degrees, with v at p.
-double worstCorner(const PolygonSoup& soup, const PolygonAdjacency& adjacency, int v,
-                   const Eigen::Vector3d& p) {
-  double worst = 0.0;
-  for (const int f : adjacency.polygons[v]) {
-    const std::size_t size = soup.faceSize(f);
-    const auto at = [&](std::size_t k) -> Eigen::Vector3d {
-      const int w = static_cast<int>(soup.cornerVertices[soup.faceStarts[f] + k % size]);
-      return w == v ? p : soup.positions[w];
-    };
-    const double ideal = size == 4 ? 90.0 : 60.0;
-    for (std::size_t k = 0; k < size; ++k) {
-      const Eigen::Vector3d u = at(k + size - 1) - at(k), w = at(k + 1) - at(k);
-      worst =
-          std::max(worst, std::abs(std::atan2(u.cross(w).norm(), u.dot(w)) * 180.0 / M_PI - ideal));
-    }
-  }
-  return worst;
-}
-
-void moveVertex(PolygonSoup& quads, TriMesh& triangles, int v, const Eigen::Vector3d& p) {
-  quads.positions[v] = p;
-  triangles.set_point(VH(v), toOpenMesh(p));
-}
-
-}  // namespace
-
 long long pairTriangles(const TriMesh& triangles, std::vector<int>& partner) {
   // Candidates: two unpaired triangles sharing an edge a -> b (in f; b -> a in g), as the quad
   // (a, d, b, c) with c and d their third corners; best (smallest worst corner deviation from
@@ -152,14 +144,8 @@ long long pairTriangles(const TriMesh& triangles, std::vector<int>& partner) {
     };
     const std::array<Eigen::Vector3d, 4> quad{at(o), at(triangles.next_halfedge_handle(o)), at(h),
                                               at(triangles.next_halfedge_handle(h))};
-    double worst = 0.0;
-    for (int i = 0; i < 4; ++i) {
-      const Eigen::Vector3d u = quad[(i + 3) % 4] - quad[i], w = quad[(i + 1) % 4] - quad[i];
-      worst =
-          std::max(worst, std::abs(std::atan2(u.cross(w).norm(), u.dot(w)) * 180.0 / M_PI - 90.0));
-    }
-    if (worst <= kQuadCornerDeviation)
-      candidates.push_back({worst, std::min(f, g), std::max(f, g)});
+    const double worst = worstCornerDeviation(quad);
+    if (worst <= kQuadCornerWindow) candidates.push_back({worst, std::min(f, g), std::max(f, g)});
   }
   std::sort(candidates.begin(), candidates.end(), [](const Candidate& x, const Candidate& y) {
     return std::tie(x.worst, x.first, x.second) < std::tie(y.worst, y.first, y.second);
@@ -183,14 +169,14 @@ long long restoreQuadCorners(PolygonSoup& quads, TriMesh& triangles,
       const int v = static_cast<int>(i);
       const Eigen::Vector3d current = quads.positions[v];
       const double before = worstCorner(quads, adjacency, v, current);
-      if (before <= kQuadCornerDeviation || current == unfitted[v]) continue;
+      if (before <= kQuadCornerWindow || current == unfitted[v]) continue;
       double best = before;
       Eigen::Vector3d bestPosition = current;
       for (const double t : kRestoreFractions) {
         const Eigen::Vector3d p = current + t * (unfitted[v] - current);
         const double after = worstCorner(quads, adjacency, v, p);
         if (after < best) best = after, bestPosition = p;
-        if (best <= kQuadCornerDeviation) break;
+        if (best <= kQuadCornerWindow) break;
       }
       if (bestPosition == current) continue;
       moveVertex(quads, triangles, v, bestPosition);

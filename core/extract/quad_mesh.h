@@ -31,7 +31,7 @@ PolygonSoup pairSquares(const TriMesh& triangles, const std::vector<int>& partne
 
 /// Pairs kUnpaired triangles of `triangles` (`partner`: squarePartners; boundary strips, hole
 /// fills) that share an edge into quads whose corners deviate from 90° by at most
-/// kQuadCornerDeviation, best quads first: a strip of triangles between a straight lattice front
+/// kQuadCornerWindow, best quads first: a strip of triangles between a straight lattice front
 /// and the boundary becomes a row of quads, which leaves the front's vertices valence 4. Returns
 /// the number of new pairs.
 long long pairTriangles(const TriMesh& triangles, std::vector<int>& partner);
@@ -39,7 +39,7 @@ long long pairTriangles(const TriMesh& triangles, std::vector<int>& partner);
 /// The fit's moves may still leave a quad corner far from 90° (a move that makes a worse corner
 /// of its fan better).
 /// Where a corner of a polygon at a vertex deviates from its ideal (90°, 60° for a triangle) by
-/// more than kQuadCornerDeviation, the vertex moves back towards its position before the fit
+/// more than kQuadCornerWindow, the vertex moves back towards its position before the fit
 /// (`unfitted`), half or all of the way, whichever makes its worst corner better. `triangles` (the
 /// same vertices) moves along. Returns the number of moves.
 long long restoreQuadCorners(PolygonSoup& quads, TriMesh& triangles,

@@ -52,9 +52,6 @@ constexpr std::size_t kRelaxChunk = 64;
 /// kRelaxCreaseDeviation (or, either way, by no more than it did).
 constexpr double kRelaxDeviation = 0.2;
 constexpr double kRelaxCreaseDeviation = 0.1;
-/// N = 4: relaxation's badness of a polygon corner is its deviation from 90° (60° in a triangle)
-/// over this many degrees.
-constexpr double kQuadCornerRoom = 45.0;
 /// Smoothing's trial moves besides the centroid: directions, and steps in local edge lengths.
 constexpr int kTrialDirections = 8;
 constexpr std::array<double, 3> kTrialSteps{0.1, 0.2, 0.35};
@@ -72,9 +69,9 @@ constexpr int kBalanceDivisions = 3;
 class SurfaceFit {
  public:
   SurfaceFit(const TriMesh& input, const ClosestPointQuery& inputQuery, TriMesh& remesh,
-             double creaseAngle, int threads, std::vector<int> squarePartner)
+             double creaseAngle, int threads, const std::vector<int>& squarePartner)
       : remesh_(remesh),
-        partner_(std::move(squarePartner)),
+        partner_(squarePartner),
         threads_(threads),
         inputQuery_(inputQuery),
         locked_(remesh.n_vertices(), 0),
@@ -289,7 +286,10 @@ class SurfaceFit {
     std::vector<double> deviation = interiorFanDeviations();
     const double largest = *std::max_element(deviation.begin(), deviation.end());
     const double threshold = kBalanceShareOfLargest * largest;
-    const double snapWindowBadness = angleBadness({kSnapMinAngle, kSnapMaxAngle});
+    // The angles may stray to the snap window (quads: corners within kQuadCornerWindow of 90°,
+    // badness 1), or no farther than they are.
+    const double windowBadness =
+        partner_.empty() ? angleBadness({kSnapMinAngle, kSnapMaxAngle}) : 1.0;
     long long moves = 0;
     std::vector<char> visit(remesh_.n_vertices(), 1);
     for (int pass = 0; pass < kBalancePasses; ++pass) {
@@ -307,13 +307,9 @@ class SurfaceFit {
         if (normal.isZero()) continue;
         const auto [t, after] = searchLine(v, current, normal, kBalanceReach * length);
         const Vec3 candidate = current + t * normal;
-        // Quads: corners within kQuadCornerRoom of 90° (badness 1), or no worse than before.
-        const bool anglesKept =
-            partner_.empty()
-                ? fanAngleBadness(remesh_, v, candidate) <=
-                      std::max(fanAngleBadness(remesh_, v, current), snapWindowBadness)
-                : cornerBadness(v, candidate) <= std::max(cornerBadness(v, current), 1.0);
-        if (!(after < before) || !anglesKept) continue;
+        if (!(after < before) ||
+            cornerBadness(v, candidate) > std::max(cornerBadness(v, current), windowBadness))
+          continue;
         remesh_.set_point(v, toOpenMesh(candidate));
         moved_[v.idx()] = 1;
         for (const auto w : v.vertices()) nextVisit[w.idx()] = 1;
@@ -328,7 +324,7 @@ class SurfaceFit {
   TriMesh& remesh_;
   /// N = 4: per remesh face the other triangle of its lattice square, or −1 (squarePartners);
   /// empty for the triangle lattice.
-  std::vector<int> partner_;
+  const std::vector<int>& partner_;
   int threads_;  ///< for relaxation and the assignment of input points (same result for any count)
   const ClosestPointQuery& inputQuery_;
   std::vector<char> locked_;  ///< per remesh vertex: boundary, isolated or snapped all the way
@@ -440,8 +436,7 @@ class SurfaceFit {
     for (const auto f : v.faces()) {
       const int g = partner_.empty() ? -1 : partner_[f.idx()];
       if (g < 0) {
-        const auto t = facePositions(remesh_, f, v, p);
-        visit(std::vector<Vec3>(t.begin(), t.end()));
+        visit(facePositions(remesh_, f, v, p));
         continue;
       }
       const int square = std::min(f.idx(), g);
@@ -450,8 +445,8 @@ class SurfaceFit {
       // f's edge shared with g, x -> y, gets g's third corner between its ends.
       for (const auto h : f.halfedges())
         if (h.opp().face().idx() == g)
-          visit(std::vector<Vec3>{at(h.from()), at(h.opp().next().to()), at(h.to()),
-                                  at(h.next().to())});
+          visit(std::array<Vec3, 4>{at(h.from()), at(h.opp().next().to()), at(h.to()),
+                                    at(h.next().to())});
     }
   }
 
@@ -460,12 +455,9 @@ class SurfaceFit {
   double cornerVariance(SVH v, const Vec3& p) const {
     if (partner_.empty()) return fanAngleVariance(v, p);
     double sum = 0.0;
-    forEachPolygon(v, p, [&](const std::vector<Vec3>& corners) {
-      const std::size_t n = corners.size();
-      const double ideal = n == 4 ? 90.0 : 60.0;
-      for (std::size_t k = 0; k < n; ++k) {
-        const double d =
-            angleAt(corners[k], corners[(k + 1) % n], corners[(k + n - 1) % n]) - ideal;
+    forEachPolygon(v, p, [&](const auto& corners) {
+      for (std::size_t k = 0; k < corners.size(); ++k) {
+        const double d = cornerDeviation(corners, k);
         sum += d * d;
       }
     });
@@ -473,21 +465,15 @@ class SurfaceFit {
   }
 
   /// angleBadness of v's triangles with v at p; with lattice squares (N = 4) the largest deviation
-  /// of a polygon corner from its ideal relative to kQuadCornerRoom (1.5 when a triangle turns by
+  /// of a polygon corner from its ideal relative to kQuadCornerWindow (1.5 when a triangle turns by
   /// more than 60°, as for triangles).
   double cornerBadness(SVH v, const Vec3& p) const {
     if (partner_.empty()) return fanAngleBadness(remesh_, v, p);
     if (fanAngleRange(remesh_, v, p) == std::array<double, 2>{0.0, 180.0}) return 1.5;
     double worst = 0.0;
-    forEachPolygon(v, p, [&](const std::vector<Vec3>& corners) {
-      const std::size_t n = corners.size();
-      const double ideal = n == 4 ? 90.0 : 60.0;
-      for (std::size_t k = 0; k < n; ++k)
-        worst = std::max(
-            worst,
-            std::abs(angleAt(corners[k], corners[(k + 1) % n], corners[(k + n - 1) % n]) - ideal));
-    });
-    return worst / kQuadCornerRoom;
+    forEachPolygon(
+        v, p, [&](const auto& corners) { worst = std::max(worst, worstCornerDeviation(corners)); });
+    return worst / kQuadCornerWindow;
   }
 
   /// One relaxation step of v (see surface_fit.h): down the gradient, in v's tangent plane, of

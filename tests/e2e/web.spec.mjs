@@ -179,15 +179,20 @@ try {
 
   // A second job at 20 vertices, fewer than the shape allows: its warnings (the count missed,
   // and why) are listed above the metrics.
+  // Submits the form again and waits until the page shows a job other than `previous`; returns
+  // that job's id and metrics.
+  const submitAgain = async (previous, what) => {
+    await page.click('#submit');
+    await page.waitForFunction(
+      (shown) => (document.body.dataset.state === 'shown' && document.body.dataset.jobId !== shown) ||
+        document.getElementById('status').classList.contains('error'),
+      previous, { timeout: kJobTimeoutMs, polling: 250 });
+    const id = await page.getAttribute('body', 'data-job-id');
+    assert.notEqual(id, previous, `${what} did not succeed: ${await page.textContent('#status')}`);
+    return { id, metrics: await (await fetch(`${server.url}/v1/jobs/${id}/metrics`)).json() };
+  };
   await page.fill('#target-value', '20');
-  await page.click('#submit');
-  await page.waitForFunction(
-    (first) => (document.body.dataset.state === 'shown' && document.body.dataset.jobId !== first) ||
-      document.getElementById('status').classList.contains('error'),
-    jobId, { timeout: kJobTimeoutMs, polling: 250 });
-  const coarseId = await page.getAttribute('body', 'data-job-id');
-  assert.notEqual(coarseId, jobId, `second job did not succeed: ${await page.textContent('#status')}`);
-  const coarse = await (await fetch(`${server.url}/v1/jobs/${coarseId}/metrics`)).json();
+  const { id: coarseId, metrics: coarse } = await submitAgain(jobId, 'second job');
   const coarseWarnings = await page.$$eval('#warnings li', (lis) => lis.map((li) => li.textContent));
   assert.ok(coarse.warnings.length > 0, 'a remesh at 20 vertices has warnings');
   assert.deepEqual(coarseWarnings, coarse.warnings, 'warnings list = metrics warnings');
@@ -198,14 +203,7 @@ try {
   // (3 and 5 around a regular 4) are the metrics' irregular vertices.
   await page.fill('#target-value', '');
   await page.selectOption('#rosy', '4');
-  await page.click('#submit');
-  await page.waitForFunction(
-    (previous) => (document.body.dataset.state === 'shown' && document.body.dataset.jobId !== previous) ||
-      document.getElementById('status').classList.contains('error'),
-    coarseId, { timeout: kJobTimeoutMs, polling: 250 });
-  const quadId = await page.getAttribute('body', 'data-job-id');
-  assert.notEqual(quadId, coarseId, `quad job did not succeed: ${await page.textContent('#status')}`);
-  const quadMetrics = await (await fetch(`${server.url}/v1/jobs/${quadId}/metrics`)).json();
+  const { metrics: quadMetrics } = await submitAgain(coarseId, 'quad job');
   assert.ok(quadMetrics.quads > 0.9 * quadMetrics.faces, `mostly quads: ${quadMetrics.quads} of ${quadMetrics.faces}`);
   assert.ok((await page.textContent('#count-below')).startsWith('valence ≤3'), 'quads count valence 3 as below');
   const quadIrregular = (await countOf('#count-below')) + (await countOf('#count-above'));
