@@ -31,8 +31,8 @@ constexpr Subcommand kSubcommands[] = {
     {"metrics", "metrics RESULT [--reference INPUT]", runMetrics},
     {"remesh",
      "remesh IN -o OUT [--edge-length h | --vertices K] [--rosy 6|4] [--sizing uniform|curvature] "
-     "[--placement balanced|on_surface] [--feature-angle DEG] [--hex OUT_HEX] [--textured OUT_OBJ] "
-     "[--metrics METRICS.json] [--quiet]",
+     "[--placement balanced|on_surface] [--feature-angle DEG] [--d-sing X] [--hex OUT_HEX] "
+     "[--textured OUT_OBJ] [--metrics METRICS.json] [--quiet]",
      runRemesh},
     {"field",
      "field MESH [--rosy 6|4] [--d-sing X] [--max-merged-index K] [--no-clustering] "

@@ -1,8 +1,7 @@
 // `hexcover remesh IN -o OUT [--edge-length h | --vertices K] [--rosy 6|4]
-//  [--sizing uniform|curvature] [--placement balanced|on_surface] [--feature-angle DEG] [--hex
-//  OUT_HEX]
-//  [--textured OUT_OBJ] [--metrics METRICS.json] [--quiet]`: the whole pipeline (core/pipeline)
-//  on one file. With --rosy 4, OUT is the quad-dominant remesh.
+//  [--sizing uniform|curvature] [--placement balanced|on_surface] [--feature-angle DEG]
+//  [--d-sing X] [--hex OUT_HEX] [--textured OUT_OBJ] [--metrics METRICS.json] [--quiet]`: the
+//  whole pipeline (core/pipeline) on one file. With --rosy 4, OUT is the quad-dominant remesh.
 
 #include <unistd.h>
 
@@ -48,6 +47,11 @@ RemeshOptions parseOptions(const Arguments& args) {
     if (!(*angle >= 0.0 && *angle <= 180.0))
       throw UsageError("--feature-angle must be between 0 and 180 degrees (0: creases not followed)");
     options.featureAngle = *angle;
+  }
+  if (const auto dSing = args.number("--d-sing")) {
+    if (!(*dSing >= 0.0))
+      throw UsageError("--d-sing must be a distance in mesh units, ≥ 0 (0: no clustering)");
+    options.dSing = *dSing;
   }
   return options;
 }
@@ -99,6 +103,7 @@ nlohmann::json metricsDocument(const RemeshResult& result) {
                         {"smoothed_vertices", r.smoothedVertices},
                         {"relaxed_vertices", r.relaxedVertices},
                         {"balanced_vertices", r.balancedVertices},
+                        {"outlier_angle_moves", r.outlierAngleMoves},
                         {"boundary_sliver_collapses", r.boundarySliverCollapses},
                         {"boundary_sliver_flips", r.boundarySliverFlips},
                         {"non_manifold_faces_dropped", r.nonManifoldFacesDropped},
@@ -114,7 +119,7 @@ nlohmann::json metricsDocument(const RemeshResult& result) {
 int runRemesh(int argc, char** argv) {
   const Arguments args(argc, argv, 2,
                        {"-o", "--edge-length", "--vertices", "--rosy", "--sizing", "--placement",
-                        "--feature-angle", "--hex", "--textured", "--metrics"},
+                        "--feature-angle", "--d-sing", "--hex", "--textured", "--metrics"},
                        {"--quiet"});
   const std::string& inputPath = args.positional(0, "IN");
   args.expectPositionalCount(1);

@@ -118,13 +118,18 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
       if (quads)
         for (const auto v : result.triangles.vertices())
           unfitted.push_back(toEigen(result.triangles.point(v)));
-      const auto counts = fitRemeshToSurface(
-          mesh, *inputQuery, result.triangles, options.featureSnapDistance, options.creaseAngle,
-          options.balanceDeviation, options.threads, kSurfaceFitRounds, partner);
+      SurfaceFitOptions fitOptions;
+      fitOptions.featureSnapDistance = options.featureSnapDistance;
+      fitOptions.creaseAngle = options.creaseAngle;
+      fitOptions.balanceDeviation = options.balanceDeviation;
+      fitOptions.threads = options.threads;
+      const auto counts =
+          fitRemeshToSurface(mesh, *inputQuery, result.triangles, fitOptions, partner);
       report.featureSnaps = counts.snapped;
       report.smoothedVertices = counts.smoothed;
       report.relaxedVertices = counts.relaxed;
       report.balancedVertices = counts.balanced;
+      report.outlierAngleMoves = counts.outliers;
     }
     // The sliver repairs change the connectivity, which the quads' pairing reads.
     if (options.sliverAngle > 0.0 && !quads) {

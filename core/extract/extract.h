@@ -127,6 +127,7 @@ struct ExtractionReport {
   long long smoothedVertices = 0;      ///< vertex moves that opened up poor triangles
   long long relaxedVertices = 0;       ///< relaxation moves (angles nearer 60°)
   long long balancedVertices = 0;      ///< balancing moves (off the input, along the normal)
+  long long outlierAngleMoves = 0;     ///< moves of corners of angles outside [30°, 100°]
   long long restoredVertices = 0;      ///< N = 4: fit moves taken back for the quad corners
   long long centredVertices = 0;       ///< N = 4: irregular quad vertices centred (quad_mesh.h)
   long long mergedTrianglePairs = 0;   ///< N = 4: pairs of strip or fill triangles made quads

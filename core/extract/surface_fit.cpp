@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -47,6 +48,24 @@ constexpr double kRelaxFirstStep = 0.1;
 constexpr int kRelaxSteps = 8;
 constexpr double kGradientStep = 1e-4;
 constexpr std::size_t kRelaxChunk = 64;
+/// The goal window of the angles (degrees): after relaxation, the corners of triangles with an
+/// angle outside it move to the best of smoothing's trial positions, in up to kOutlierPasses
+/// passes, within relaxation's deviation bounds.
+constexpr double kGoalMinAngle = 30.0;
+constexpr double kGoalMaxAngle = 100.0;
+constexpr int kOutlierPasses = 2;
+constexpr int kOutlierDivisions = 6;
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+bool beyondGoalWindow(const std::array<double, 2>& range) {
+  return range[0] < kGoalMinAngle || range[1] > kGoalMaxAngle;
+}
+
+/// How far (degrees) the smallest and the largest angle of a range reach beyond the goal window.
+std::array<double, 2> goalExcess(const std::array<double, 2>& range) {
+  return {std::max(kGoalMinAngle - range[0], 0.0), std::max(range[1] - kGoalMaxAngle, 0.0)};
+}
 /// A relaxed fan may deviate from the input by up to this many local edge lengths (and no more
 /// than the largest fan deviation before relaxation), from the input's crease vertices by up to
 /// kRelaxCreaseDeviation (or, either way, by no more than it did).
@@ -277,6 +296,63 @@ class SurfaceFit {
     return moves;
   }
 
+  /// Opening of outlier angles (see surface_fit.h), after relaxation; returns the number of
+  /// moves.
+  long long openOutlierAngles() {
+    long long moves = 0;
+    for (int pass = 0; pass < kOutlierPasses; ++pass) {
+      assignInputPoints();
+      std::vector<char> outlierCorner(remesh_.n_vertices(), 0);
+      for (const auto f : remesh_.faces())
+        if (beyondGoalWindow(
+                angleRange(facePositions(remesh_, f, OpenMesh::VertexHandle(), Vec3::Zero()))))
+          for (const auto v : f.vertices()) outlierCorner[v.idx()] = isInterior(v);
+      long long passMoves = 0;
+      for (const auto v : remesh_.vertices()) {
+        if (!outlierCorner[v.idx()]) continue;
+        const Vec3 current = position(v);
+        // A move must not take either end of the fan's angle range farther beyond the goal
+        // window and must bring one end closer; the best has the least excess, then the least
+        // Σ (α − 60°)².
+        const auto excess = [&](const Vec3& p) { return goalExcess(fanAngleRange(remesh_, v, p)); };
+        const std::array<double, 2> before = excess(current);
+        double bestExcess = before[0] + before[1];
+        double bestVariance = fanAngleVariance(v, current);
+        Vec3 bestPosition = current;
+        DeviationBounds bounds(*this, v, fanDeviation(v, current, kOutlierDivisions),
+                               creaseDeviation(v, current, kInfinity), kOutlierDivisions);
+        // Nor may the input points whose closest remesh triangle is in the fan (a ridge's
+        // vertices, say) end up farther from it: the fan's deviation is a maximum over all of it.
+        const double pointsBefore =
+            assignedPointDeviation(v, fanTriangles(v, current), false, kInfinity);
+        const auto keepsPoints = [&](const Vec3& p) {
+          return assignedPointDeviation(v, fanTriangles(v, p), false, pointsBefore) <= pointsBefore;
+        };
+        const int hint = assignedInputFace(v);
+        for (const Vec3& trial : trialPositions(v)) {
+          const Vec3 candidate = inputQuery_.closest(trial, hint).point;
+          const std::array<double, 2> after = excess(candidate);
+          if (after[0] > before[0] || after[1] > before[1]) continue;
+          const double total = after[0] + after[1], variance = fanAngleVariance(v, candidate);
+          if (total < bestExcess ||
+              (total == bestExcess && variance < bestVariance && bestPosition != current)) {
+            if (!keepsPoints(candidate) || !bounds.admit(candidate)) continue;
+            bestExcess = total;
+            bestVariance = variance;
+            bestPosition = candidate;
+          }
+        }
+        if (bestPosition == current) continue;
+        remesh_.set_point(v, toOpenMesh(bestPosition));
+        moved_[v.idx()] = 1;
+        ++passMoves;
+      }
+      moves += passMoves;
+      if (passMoves == 0) break;
+    }
+    return moves;
+  }
+
   /// Balancing (see surface_fit.h); returns the number of moves.
   long long balance() {
     // Only fans that deviate by at least kBalanceShareOfLargest of the largest fan deviation
@@ -496,37 +572,60 @@ class SurfaceFit {
     if (!(gradient.norm() > 0.0)) return std::nullopt;
     const Vec3 direction = -gradient.normalized();
     const double badness = cornerBadness(v, current);
-    // Within the bounds: each deviation (measure(p, stopAbove)) no larger than its limit or
-    // than before the step, which is measured once, when needed.
-    const auto noWorse = [&](const auto& measure, const Vec3& p, double limit,
-                             std::optional<double>& before) {
-      if (measure(p, limit) <= limit) return true;
-      if (!before) before = measure(current, std::numeric_limits<double>::infinity());
-      return *before > limit && measure(p, *before) <= *before;
-    };
-    const auto deviationAt = [&](const Vec3& p, double stop) {
-      return fanDeviation(v, p, 1, stop);
-    };
-    const auto creaseDeviationAt = [&](const Vec3& p, double stop) {
-      return creaseDeviation(v, p, stop);
-    };
-    const double limit = std::min(largest, kRelaxDeviation * length);
-    const double creaseLimit = kRelaxCreaseDeviation * length;
-    std::optional<double> deviationBefore, creaseDeviationBefore;
-    const auto withinBounds = [&](const Vec3& p) {
-      return noWorse(deviationAt, p, limit, deviationBefore) &&
-             noWorse(creaseDeviationAt, p, creaseLimit, creaseDeviationBefore);
-    };
+    DeviationBounds bounds(*this, v, std::min(largest, kRelaxDeviation * length),
+                           kRelaxCreaseDeviation * length, 1);
     double step = kRelaxFirstStep * length;
     const int hint = assignedInputFace(v);
     for (int k = 0; k < kRelaxSteps; ++k, step *= 0.5) {
       const Vec3 candidate = inputQuery_.closest(current + step * direction, hint).point;
       if (!(cornerVariance(v, candidate) < variance)) continue;
       if (cornerBadness(v, candidate) > badness) return std::nullopt;
-      if (withinBounds(candidate)) return candidate;
+      if (bounds.admit(candidate)) return candidate;
     }
     return std::nullopt;
   }
+
+  /// Deviation bounds of a move of v: its fan's local deviation (sampled with `divisions`, see
+  /// fanDeviation) within `limit`, the input's crease vertices within `creaseLimit` of the fan;
+  /// or, either way, no larger than with v where it is (measured once, when needed).
+  class DeviationBounds {
+   public:
+    DeviationBounds(const SurfaceFit& fit, SVH v, double limit, double creaseLimit, int divisions)
+        : fit_(fit),
+          v_(v),
+          current_(fit.position(v)),
+          limit_(limit),
+          creaseLimit_(creaseLimit),
+          divisions_(divisions) {}
+
+    bool admit(const Vec3& p) {
+      const auto deviationAt = [&](const Vec3& q, double stop) {
+        return fit_.fanDeviation(v_, q, divisions_, stop);
+      };
+      const auto creaseDeviationAt = [&](const Vec3& q, double stop) {
+        return fit_.creaseDeviation(v_, q, stop);
+      };
+      return noWorse(deviationAt, p, limit_, deviationBefore_) &&
+             noWorse(creaseDeviationAt, p, creaseLimit_, creaseDeviationBefore_);
+    }
+
+   private:
+    /// measure(p, stopAbove) no larger than `limit`, or than with v where it is.
+    template <typename Measure>
+    bool noWorse(const Measure& measure, const Vec3& p, double limit,
+                 std::optional<double>& before) const {
+      if (measure(p, limit) <= limit) return true;
+      if (!before) before = measure(current_, std::numeric_limits<double>::infinity());
+      return *before > limit && measure(p, *before) <= *before;
+    }
+
+    const SurfaceFit& fit_;
+    SVH v_;
+    Vec3 current_;
+    double limit_, creaseLimit_;
+    int divisions_;  ///< of the fan's sampling (fanDeviation)
+    std::optional<double> deviationBefore_, creaseDeviationBefore_;
+  };
 
   /// Where smoothing tries to put v (before projection onto the input): a quarter to all of the
   /// way to its neighbours' centroid, and kTrialDirections directions in its tangent plane at
@@ -685,23 +784,24 @@ class SurfaceFit {
 }  // namespace
 
 SurfaceFitCounts fitRemeshToSurface(const TriMesh& input, const ClosestPointQuery& inputQuery,
-                                    TriMesh& remesh, double featureSnapDistance, double creaseAngle,
-                                    bool balanceDeviation, int threads, int rounds,
+                                    TriMesh& remesh, const SurfaceFitOptions& options,
                                     const std::vector<int>& squarePartner) {
   SurfaceFitCounts counts;
   if (input.n_faces() == 0 || remesh.n_faces() == 0) return counts;
-  SurfaceFit fit(input, inputQuery, remesh, creaseAngle, threads, squarePartner);
-  // Smoothing judges triangles by their distance from 60°: not the halves of lattice squares.
+  SurfaceFit fit(input, inputQuery, remesh, options.creaseAngle, options.threads, squarePartner);
+  // Smoothing and the outlier-angle moves judge triangles by their angles: not the halves of
+  // lattice squares.
   const bool shapeTriangles = squarePartner.empty();
-  for (int round = 0; round < rounds; ++round) {
-    const long long snapped = fit.snapFeatures(featureSnapDistance);
+  for (int round = 0; round < options.rounds; ++round) {
+    const long long snapped = fit.snapFeatures(options.featureSnapDistance);
     const long long smoothed = shapeTriangles ? fit.smoothPoorTriangles() : 0;
     counts.snapped += snapped;
     counts.smoothed += smoothed;
     if (snapped + smoothed == 0) break;
   }
   counts.relaxed = fit.relax();
-  if (balanceDeviation) counts.balanced = fit.balance();
+  if (options.balanceDeviation) counts.balanced = fit.balance();
+  if (options.openOutlierAngles && shapeTriangles) counts.outliers = fit.openOutlierAngles();
   return counts;
 }
 

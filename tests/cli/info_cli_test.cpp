@@ -180,6 +180,28 @@ TEST_F(CliTest, RemeshWithRosyFourWritesQuadsAndRefusesAHexagonalDual) {
   EXPECT_NE(hex.err.find("--hex"), std::string::npos) << hex.err;
 }
 
+TEST_F(CliTest, RemeshTakesTheSingularityDistanceItIsGiven) {
+  const auto path = dir_ / "sphere.obj", out = dir_ / "remesh.obj", metrics = dir_ / "m.json";
+  writeMesh(toPolygonSoup(makeIcosphere(4)), path);
+  const std::string run = "remesh '" + path.string() + "' -o '" + out.string() +
+                          "' --vertices 600 --quiet --metrics '" + metrics.string() + "'";
+  ASSERT_EQ(hexcover(run).status, 0);
+  const double byDefault =
+      nlohmann::json::parse(slurp(metrics))["singularity_distance"].get<double>();
+  const CommandResult given = hexcover(run + " --d-sing 0.125");
+  ASSERT_EQ(given.status, 0) << given.err;
+  const nlohmann::json json = nlohmann::json::parse(slurp(metrics));
+  EXPECT_DOUBLE_EQ(json["singularity_distance"].get<double>(), 0.125);
+  EXPECT_GT(byDefault, 2.0 * 0.125) << "6 h by default";
+  int indexSum = 0;  // in units of 1/6
+  for (const auto& s : json["singularities"]) indexSum += s["index"].get<int>();
+  EXPECT_EQ(indexSum, 6 * 2) << "Poincaré–Hopf on the sphere";
+
+  const CommandResult refused = hexcover(run + " --d-sing -1");
+  EXPECT_EQ(refused.status, 2) << "a usage error";
+  EXPECT_NE(refused.err.find("--d-sing"), std::string::npos) << refused.err;
+}
+
 TEST_F(CliTest, ParamClustersSingularitiesAtSixEdgeLengthsUnlessToldOtherwise) {
   const auto path = dir_ / "torus.obj", textured = dir_ / "textured.obj";
   writeMesh(toPolygonSoup(makeTorus(3, 1, 48, 16)), path);

@@ -179,6 +179,15 @@ TEST(QuadMesh, FitMovesThatBendAQuadCornerPastTheBoundAreTakenBack) {
   EXPECT_EQ(extract_detail::restoreQuadCorners(quads, triangles, unfitted), 0);
 }
 
+/// The fit's options as extraction sets them (snapping at 0.35 edge lengths, the default crease
+/// angle).
+extract_detail::SurfaceFitOptions fitOptions() {
+  extract_detail::SurfaceFitOptions options;
+  options.featureSnapDistance = 0.35;
+  options.creaseAngle = kDefaultFeatureAngle;
+  return options;
+}
+
 /// The triangles of an n × n square grid with the interior vertices jittered in the plane by up
 /// to 0.2 edge lengths (a fixed pattern).
 TriMesh jitteredSquareGrid(int n) {
@@ -212,15 +221,13 @@ TEST(QuadMesh, FitRelaxesTheCornersOfAJitteredSquareGridTowardsRightAngles) {
   ASSERT_GT(before, 8.0);
   TriMesh asQuads = triangles, asTriangles = triangles;
   const ClosestPointQuery onInput(inputTriangles);
-  const auto counts = extract_detail::fitRemeshToSurface(
-      inputTriangles, onInput, asQuads, 0.35, kDefaultFeatureAngle, true, 1,
-      extract_detail::kSurfaceFitRounds, partner);
+  const auto counts =
+      extract_detail::fitRemeshToSurface(inputTriangles, onInput, asQuads, fitOptions(), partner);
   EXPECT_GT(counts.relaxed, 0);
   EXPECT_EQ(counts.smoothed, 0) << "smoothing aims at 60° triangles";
   EXPECT_LT(quadSd(asQuads), 0.5 * before);
   // Without the squares, relaxation aims at 60° triangles, which bends the squares further.
-  extract_detail::fitRemeshToSurface(inputTriangles, onInput, asTriangles, 0.35,
-                                     kDefaultFeatureAngle);
+  extract_detail::fitRemeshToSurface(inputTriangles, onInput, asTriangles, fitOptions());
   EXPECT_GT(quadSd(asTriangles), quadSd(asQuads) + 5.0);
 }
 
@@ -232,10 +239,13 @@ TEST(QuadMesh, RelaxationOfQuadsGivesTheSameMeshForAnyThreadCount) {
   const ClosestPointQuery onInput(input);
   TriMesh one = jitteredSquareGrid(n), two = one;
   const std::vector<int> partner = gridPartners(one);
-  for (auto* mesh : {&one, &two})
-    extract_detail::fitRemeshToSurface(input, onInput, *mesh, 0.0, kDefaultFeatureAngle, false,
-                                       mesh == &one ? 1 : 2, extract_detail::kSurfaceFitRounds,
-                                       partner);
+  for (auto* mesh : {&one, &two}) {
+    extract_detail::SurfaceFitOptions options;
+    options.creaseAngle = kDefaultFeatureAngle;
+    options.balanceDeviation = false;
+    options.threads = mesh == &one ? 1 : 2;
+    extract_detail::fitRemeshToSurface(input, onInput, *mesh, options, partner);
+  }
   for (const auto v : one.vertices()) ASSERT_EQ(one.point(v), two.point(v)) << "vertex " << v.idx();
 }
 
@@ -263,9 +273,8 @@ TEST(QuadMesh, FitSnapsQuadsToARidgeWithTheirCornersWithinTheWindow) {
     remesh.set_point(v, roof(p[0], p[1]));
   }
   const std::vector<int> partner = gridPartners(remesh);
-  const auto counts = extract_detail::fitRemeshToSurface(
-      input, ClosestPointQuery(input), remesh, 0.35, kDefaultFeatureAngle, true, 1,
-      extract_detail::kSurfaceFitRounds, partner);
+  const auto counts = extract_detail::fitRemeshToSurface(input, ClosestPointQuery(input), remesh,
+                                                         fitOptions(), partner);
   EXPECT_GT(counts.snapped + counts.balanced, 0);
   const QualityReport report =
       measurePolygonQuality(extract_detail::pairSquares(remesh, partner), remesh);

@@ -46,6 +46,24 @@ TriMesh makeRoof() {
   return mesh;
 }
 
+/// The fit's options with snapping at `featureSnapDistance` edge lengths and creases of
+/// `creaseAngle` degrees.
+SurfaceFitOptions fitOptions(double featureSnapDistance,
+                             double creaseAngle = kDefaultFeatureAngle) {
+  SurfaceFitOptions options;
+  options.featureSnapDistance = featureSnapDistance;
+  options.creaseAngle = creaseAngle;
+  return options;
+}
+
+/// The same without balancing (every vertex stays on the input).
+SurfaceFitOptions withoutBalancing(double featureSnapDistance,
+                                   double creaseAngle = kDefaultFeatureAngle) {
+  SurfaceFitOptions options = fitOptions(featureSnapDistance, creaseAngle);
+  options.balanceDeviation = false;
+  return options;
+}
+
 /// Distance from each point to the mesh.
 std::vector<double> distances(const std::vector<Vec3>& points, const TriMesh& mesh) {
   const ClosestPointQuery query(mesh);
@@ -104,14 +122,13 @@ TEST(SurfaceFit, SnapsVerticesOntoASharpRidgeThatTheCoarseMeshCutsOff) {
 
   TriMesh withoutCreases = remesh;
   const SurfaceFitCounts counts =
-      fitRemeshToSurface(input, ClosestPointQuery(input), remesh, 0.1, kDefaultFeatureAngle,
-                         /*balanceDeviation=*/false);
+      fitRemeshToSurface(input, ClosestPointQuery(input), remesh, withoutBalancing(0.1));
   EXPECT_GT(counts.snapped, 0);
   EXPECT_LT(largestDistance(ridge, remesh), 0.5 * cutOff);
   // Without crease vertices, relaxation evens out the angles at the ridge's expense (within
   // kRelaxDeviation = 0.2 edge lengths).
-  fitRemeshToSurface(input, ClosestPointQuery(input), withoutCreases, 0.1, /*creaseAngle=*/0.0,
-                     /*balanceDeviation=*/false);
+  fitRemeshToSurface(input, ClosestPointQuery(input), withoutCreases,
+                     withoutBalancing(0.1, /*creaseAngle=*/0.0));
   EXPECT_GT(largestDistance(ridge, withoutCreases), largestDistance(ridge, remesh) + 0.02);
   // Same triangles; every vertex still on the roof; boundary vertices where they were.
   EXPECT_EQ(faceCorners(remesh), faceCorners(before));
@@ -131,6 +148,51 @@ TEST(SurfaceFit, SnapsVerticesOntoASharpRidgeThatTheCoarseMeshCutsOff) {
 // so its triangles cut the ridge off, by more than the snap distance of 0.35 edge lengths between
 // rows; vertices beside it snap onto it (its closest point), and the ridge comes closer on
 // average (the rows in between still cut it off).
+/// Smallest and largest angle over all triangles (degrees).
+std::array<double, 2> angleExtremes(const TriMesh& mesh) {
+  std::array<double, 2> extremes{180.0, 0.0};
+  for (const auto f : mesh.faces()) {
+    const auto range = angleRange(facePositions(mesh, f, OpenMesh::VertexHandle(), Vec3::Zero()));
+    extremes = {std::min(extremes[0], range[0]), std::max(extremes[1], range[1])};
+  }
+  return extremes;
+}
+
+TEST(SurfaceFit, MovesCornersOfAnglesThatSnappingLeftOutsideTheGoalWindow) {
+  // The coarse grid on the roof again: the vertices that snap onto the ridge leave two angles
+  // of about 25° that relaxation keeps (its descent would shrink them further or pull the
+  // vertices off the ridge). The outlier-angle moves open them to at least 30°.
+  const TriMesh input = makeRoof();
+  const ClosestPointQuery onInput(input);
+  TriMesh remesh = makeEquilateralGrid(6, 7);
+  for (const auto v : remesh.vertices()) {
+    auto p = remesh.point(v);
+    p[2] = roof(p[0]);
+    remesh.set_point(v, p);
+  }
+  std::vector<Vec3> ridge;
+  for (const auto v : input.vertices())
+    if (const Vec3 p = toEigen(input.point(v)); std::abs(p.x() - kRidgeX) < 1e-9)
+      ridge.push_back(p);
+
+  SurfaceFitOptions options = withoutBalancing(0.1);
+  options.openOutlierAngles = false;
+  TriMesh left = remesh;
+  EXPECT_EQ(fitRemeshToSurface(input, onInput, left, options).outliers, 0);
+  ASSERT_LT(angleExtremes(left)[0], 30.0) << "snapping should leave an angle below the window";
+
+  options.openOutlierAngles = true;
+  const SurfaceFitCounts counts = fitRemeshToSurface(input, onInput, remesh, options);
+  EXPECT_GT(counts.outliers, 0);
+  const auto [smallest, largest] = angleExtremes(remesh);
+  EXPECT_GE(smallest, 30.0) << "was " << angleExtremes(left)[0];
+  EXPECT_LE(largest, std::max(100.0, angleExtremes(left)[1]));
+  EXPECT_LE(largestDistance(ridge, remesh), largestDistance(ridge, left) + 1e-9)
+      << "the ridge is no farther from the remesh";
+  for (const auto v : remesh.vertices())
+    EXPECT_LT(onInput.closest(toEigen(remesh.point(v))).distance, 1e-12) << "on the roof";
+}
+
 TEST(SurfaceFit, SnapsVerticesBesideACreaseOntoItBetweenTheInputsVertices) {
   TriMesh input;
   std::vector<TriMesh::VertexHandle> corner;
@@ -151,10 +213,9 @@ TEST(SurfaceFit, SnapsVerticesBesideACreaseOntoItBetweenTheInputsVertices) {
   for (double y = 1.0; y <= 4.2; y += 0.05) ridge.emplace_back(kRidgeX, y, 0.0);
   TriMesh withoutCreases = remesh;
   const SurfaceFitCounts counts =
-      fitRemeshToSurface(input, ClosestPointQuery(input), remesh, /*featureSnapDistance=*/0.35,
-                         kDefaultFeatureAngle, /*balanceDeviation=*/false);
-  fitRemeshToSurface(input, ClosestPointQuery(input), withoutCreases, 0.35, /*creaseAngle=*/0.0,
-                     /*balanceDeviation=*/false);
+      fitRemeshToSurface(input, ClosestPointQuery(input), remesh, withoutBalancing(0.35));
+  fitRemeshToSurface(input, ClosestPointQuery(input), withoutCreases,
+                     withoutBalancing(0.35, /*creaseAngle=*/0.0));
   const auto onRidge = [](const TriMesh& mesh) {
     int count = 0;
     for (const auto v : mesh.vertices())
@@ -206,13 +267,12 @@ TEST(SurfaceFit, MeasuresTheSnapThresholdAgainstTheMeanEdgeLengthWhereTrianglesA
   const double cutOff = largestDistance(ridge, alone);
   ASSERT_LT(cutOff, 0.45) << "the ridge should be within the threshold of the coarse grid alone";
   EXPECT_EQ(
-      fitRemeshToSurface(input, ClosestPointQuery(input), alone, 0.45, kDefaultFeatureAngle, false)
-          .snapped,
+      fitRemeshToSurface(input, ClosestPointQuery(input), alone, withoutBalancing(0.45)).snapped,
       0);
 
   TriMesh withFine = liftedGridOnTheRoof(true);
-  const SurfaceFitCounts counts = fitRemeshToSurface(input, ClosestPointQuery(input), withFine,
-                                                     0.45, kDefaultFeatureAngle, false);
+  const SurfaceFitCounts counts =
+      fitRemeshToSurface(input, ClosestPointQuery(input), withFine, withoutBalancing(0.45));
   EXPECT_GT(counts.snapped, 0);
   EXPECT_LT(largestDistance(ridge, withFine), 0.5 * cutOff);
 }
@@ -251,8 +311,7 @@ TEST(SurfaceFit, MovesPartWayToARidgeWhenAFullSnapWouldOpenAnAngleTooFar) {
   const double before = largestDistance(ridgePoint, fan);
 
   const SurfaceFitCounts counts =
-      fitRemeshToSurface(input, ClosestPointQuery(input), fan, 0.1, kDefaultFeatureAngle,
-                         /*balanceDeviation=*/false);
+      fitRemeshToSurface(input, ClosestPointQuery(input), fan, withoutBalancing(0.1));
   EXPECT_GE(counts.snapped, 1);  // part-way moves may go on in later rounds
   const auto moved = fan.point(centre);
   EXPECT_GT(moved[1], 0.3);
@@ -278,8 +337,7 @@ TEST(SurfaceFit, SmoothsAPoorTriangleAndKeepsTheVertexOnTheSurface) {
   ASSERT_LT(poor, 25.0);
 
   const SurfaceFitCounts counts =
-      fitRemeshToSurface(input, onInput, remesh, 0.0, kDefaultFeatureAngle,
-                         /*balanceDeviation=*/false);
+      fitRemeshToSurface(input, onInput, remesh, withoutBalancing(/*featureSnapDistance=*/0.0));
   EXPECT_EQ(counts.snapped, 0) << "snapping is off";
   EXPECT_EQ(counts.balanced, 0) << "balancing is off";
   EXPECT_GT(counts.smoothed, 0);
@@ -323,7 +381,7 @@ TEST(SurfaceFit, RelaxesAJitteredGridInItsPlane) {
   ASSERT_GT(before, 8.0);
 
   const SurfaceFitCounts counts =
-      fitRemeshToSurface(input, ClosestPointQuery(input), remesh, 0.35, kDefaultFeatureAngle);
+      fitRemeshToSurface(input, ClosestPointQuery(input), remesh, fitOptions(0.35));
   EXPECT_EQ(counts.snapped, 0) << "the grid has no feature";
   EXPECT_GT(counts.relaxed, 0);
   EXPECT_LT(angleSd(remesh), 0.7 * before);
@@ -340,8 +398,10 @@ TEST(SurfaceFit, RelaxationGivesTheSameMeshForAnyThreadCount) {
   const TriMesh input = makeEquilateralGrid(40, 40);
   const ClosestPointQuery onInput(input);
   TriMesh one = jitteredGrid(40, 40), two = one;
-  const auto counts = fitRemeshToSurface(input, onInput, one, 0.0, kDefaultFeatureAngle, false, 1);
-  fitRemeshToSurface(input, onInput, two, 0.0, kDefaultFeatureAngle, false, 2);
+  SurfaceFitOptions options = withoutBalancing(0.0);
+  const auto counts = fitRemeshToSurface(input, onInput, one, options);
+  options.threads = 2;
+  fitRemeshToSurface(input, onInput, two, options);
   EXPECT_GT(counts.relaxed, 1000);
   for (const auto v : one.vertices()) EXPECT_EQ(one.point(v), two.point(v));
 }
@@ -353,8 +413,7 @@ TEST(SurfaceFit, OnlyRelaxesAMeshThatMatchesTheInput) {
   const TriMesh input = makeIcosphere(3);
   TriMesh remesh = input;
   const ClosestPointQuery onInput(input);
-  const SurfaceFitCounts counts =
-      fitRemeshToSurface(input, onInput, remesh, 0.35, kDefaultFeatureAngle);
+  const SurfaceFitCounts counts = fitRemeshToSurface(input, onInput, remesh, fitOptions(0.35));
   EXPECT_EQ(counts.snapped, 0);
   EXPECT_EQ(counts.smoothed, 0);
   EXPECT_LE(angleSd(remesh), angleSd(input));
@@ -374,15 +433,12 @@ TEST(SurfaceFit, BalancesACoarseSphereAboutTheInputSurface) {
   const double sdBefore = angleSd(remesh);
 
   TriMesh unbalanced = remesh;
-  EXPECT_EQ(
-      fitRemeshToSurface(input, onInput, unbalanced, 0.35, kDefaultFeatureAngle, false).balanced,
-      0);
+  EXPECT_EQ(fitRemeshToSurface(input, onInput, unbalanced, withoutBalancing(0.35)).balanced, 0);
   EXPECT_NEAR(twoSidedDistance(input, unbalanced).hausdorff(), before.hausdorff(),
               1e-3 * before.hausdorff())
       << "without balancing nothing moves off the sphere";
 
-  const SurfaceFitCounts counts =
-      fitRemeshToSurface(input, onInput, remesh, 0.35, kDefaultFeatureAngle);
+  const SurfaceFitCounts counts = fitRemeshToSurface(input, onInput, remesh, fitOptions(0.35));
   EXPECT_GE(counts.balanced, 42);
   const TwoSidedDistance after = twoSidedDistance(input, remesh);
   EXPECT_LT(after.hausdorff(), 0.65 * before.hausdorff());
