@@ -48,12 +48,12 @@ constexpr double kRelaxFirstStep = 0.1;
 constexpr int kRelaxSteps = 8;
 constexpr double kGradientStep = 1e-4;
 constexpr std::size_t kRelaxChunk = 64;
-/// The goal window of the angles (degrees): after relaxation, the corners of triangles with an
+/// The goal window of the angles (degrees): last in the fit, the corners of triangles with an
 /// angle outside it move to the best of smoothing's trial positions, in up to kOutlierPasses
-/// passes, within relaxation's deviation bounds.
+/// passes, when no deviation rises (the fan's sampled on kOutlierDivisions divisions).
 constexpr double kGoalMinAngle = 30.0;
 constexpr double kGoalMaxAngle = 100.0;
-constexpr int kOutlierPasses = 2;
+constexpr int kOutlierPasses = 4;
 constexpr int kOutlierDivisions = 6;
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
@@ -307,9 +307,12 @@ class SurfaceFit {
         if (beyondGoalWindow(
                 angleRange(facePositions(remesh_, f, OpenMesh::VertexHandle(), Vec3::Zero()))))
           for (const auto v : f.vertices()) outlierCorner[v.idx()] = isInterior(v);
+      // A move changes its neighbours' fans, and the input points assigned to them: those wait
+      // for the next pass's assignment.
+      std::vector<char> touched(remesh_.n_vertices(), 0);
       long long passMoves = 0;
       for (const auto v : remesh_.vertices()) {
-        if (!outlierCorner[v.idx()]) continue;
+        if (!outlierCorner[v.idx()] || touched[v.idx()]) continue;
         const Vec3 current = position(v);
         // A move must not take either end of the fan's angle range farther beyond the goal
         // window and must bring one end closer; the best has the least excess, then the least
@@ -345,6 +348,7 @@ class SurfaceFit {
         if (bestPosition == current) continue;
         remesh_.set_point(v, toOpenMesh(bestPosition));
         moved_[v.idx()] = 1;
+        for (const auto w : v.vertices()) touched[w.idx()] = 1;
         ++passMoves;
       }
       moves += passMoves;

@@ -46,9 +46,10 @@
 //   positions, projected onto the input, that brings its triangles' smallest or largest angle
 //   nearer the window and neither farther from it (least excess, then least Σ (α − 60°)²),
 //   when neither its fan's local deviation (sampled on a finer grid than balancing's) nor (a)
-//   and the distance of the input's crease vertices, below, rises (such angles sit near the largest
-//   deviations, where relaxation stops: at K = V/4 feline's angles went from 25.1-106.0°
-//   to 26.0-104.1°, spot's from 25.0-103.9° to 29.2-98.0°).
+//   and the distance of the input's crease vertices, below, rises; the neighbours of a move
+//   wait for the next pass, after the input points are assigned again. Such angles sit near
+//   the largest deviations, where relaxation stops: at K = V/4 feline's angles went from
+//   25.1-106.0° to 26.0-104.1°, spot's from 25.0-103.9° to 29.2-98.0°.
 //
 // The local deviation of a vertex's fan is the largest of (a) the distances from the input
 // vertices whose closest remesh triangle is in the fan to the fan, and (b) the distances from the
