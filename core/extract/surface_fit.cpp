@@ -48,24 +48,6 @@ constexpr double kRelaxFirstStep = 0.1;
 constexpr int kRelaxSteps = 8;
 constexpr double kGradientStep = 1e-4;
 constexpr std::size_t kRelaxChunk = 64;
-/// The goal window of the angles (degrees): last in the fit, the corners of triangles with an
-/// angle outside it move to the best of smoothing's trial positions, in up to kOutlierPasses
-/// passes, when no deviation rises (the fan's sampled on kOutlierDivisions divisions).
-constexpr double kGoalMinAngle = 30.0;
-constexpr double kGoalMaxAngle = 100.0;
-constexpr int kOutlierPasses = 4;
-constexpr int kOutlierDivisions = 6;
-
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
-
-bool beyondGoalWindow(const std::array<double, 2>& range) {
-  return range[0] < kGoalMinAngle || range[1] > kGoalMaxAngle;
-}
-
-/// How far (degrees) the smallest and the largest angle of a range reach beyond the goal window.
-std::array<double, 2> goalExcess(const std::array<double, 2>& range) {
-  return {std::max(kGoalMinAngle - range[0], 0.0), std::max(range[1] - kGoalMaxAngle, 0.0)};
-}
 /// A relaxed fan may deviate from the input by up to this many local edge lengths (and no more
 /// than the largest fan deviation before relaxation), from the input's crease vertices by up to
 /// kRelaxCreaseDeviation (or, either way, by no more than it did).
@@ -84,6 +66,24 @@ constexpr double kBalanceReach = 0.5;
 constexpr int kBalancePasses = 4;
 constexpr int kBalanceSearchSteps = 8;
 constexpr int kBalanceDivisions = 3;
+/// The goal window of the angles (degrees): last in the fit, the corners of triangles with an
+/// angle outside it move to the best of smoothing's trial positions, in up to kOutlierPasses
+/// passes, when no deviation rises (the fan's sampled on kOutlierDivisions divisions).
+constexpr double kGoalMinAngle = 30.0;
+constexpr double kGoalMaxAngle = 100.0;
+constexpr int kOutlierPasses = 4;
+constexpr int kOutlierDivisions = 6;
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+bool beyondGoalWindow(const std::array<double, 2>& range) {
+  return range[0] < kGoalMinAngle || range[1] > kGoalMaxAngle;
+}
+
+/// How far (degrees) the smallest and the largest angle of a range reach beyond the goal window.
+std::array<double, 2> goalExcess(const std::array<double, 2>& range) {
+  return {std::max(kGoalMinAngle - range[0], 0.0), std::max(range[1] - kGoalMaxAngle, 0.0)};
+}
 
 class SurfaceFit {
  public:
@@ -296,8 +296,7 @@ class SurfaceFit {
     return moves;
   }
 
-  /// Opening of outlier angles (see surface_fit.h), after relaxation; returns the number of
-  /// moves.
+  /// The outlier-angle moves (see surface_fit.h), last; returns the number of moves.
   long long openOutlierAngles() {
     long long moves = 0;
     for (int pass = 0; pass < kOutlierPasses; ++pass) {
@@ -447,7 +446,7 @@ class SurfaceFit {
     const double ratio = (std::sqrt(5.0) - 1.0) / 2.0;
     double lo = -reach, hi = reach;
     double x1 = hi - ratio * (hi - lo), x2 = lo + ratio * (hi - lo);
-    double f1 = at(x1, std::numeric_limits<double>::infinity()), f2 = at(x2, f1);
+    double f1 = at(x1, kInfinity), f2 = at(x2, f1);
     for (int step = 0; step < kBalanceSearchSteps; ++step) {
       if (f1 < f2) {
         hi = x2, x2 = x1, f2 = f1;
@@ -619,7 +618,7 @@ class SurfaceFit {
     bool noWorse(const Measure& measure, const Vec3& p, double limit,
                  std::optional<double>& before) const {
       if (measure(p, limit) <= limit) return true;
-      if (!before) before = measure(current_, std::numeric_limits<double>::infinity());
+      if (!before) before = measure(current_, kInfinity);
       return *before > limit && measure(p, *before) <= *before;
     }
 
@@ -710,7 +709,7 @@ class SurfaceFit {
         // The distance to the point's own triangle bounds its distance to the fan: when that is
         // no more than the largest so far, the point cannot raise it.
         if (distance(q, own) <= deviation) continue;
-        double d = std::numeric_limits<double>::infinity();
+        double d = kInfinity;
         for (const auto& t : fan) d = std::min(d, distance(q, t));
         deviation = std::max(deviation, d);
         if (deviation > stopAbove) return deviation;
@@ -749,8 +748,7 @@ class SurfaceFit {
   /// `divisions` > 1 the fan's triangles are sampled on a barycentric grid of that many
   /// divisions instead of at their centroids and v's edge midpoints. Stops early with a value
   /// above `stopAbove` once the deviation exceeds it.
-  double fanDeviation(SVH v, const Vec3& p, int divisions = 1,
-                      double stopAbove = std::numeric_limits<double>::infinity()) const {
+  double fanDeviation(SVH v, const Vec3& p, int divisions = 1, double stopAbove = kInfinity) const {
     const std::vector<std::array<Vec3, 3>> fan = fanTriangles(v, p);
     double deviation = assignedPointDeviation(v, fan, false, stopAbove);
     if (deviation > stopAbove) return deviation;
