@@ -120,6 +120,21 @@ std::vector<int> vertexValences(const Assembly& out) {
   return valence;
 }
 
+std::vector<int> polygonValences(const Assembly& out) {
+  std::vector<int> valence = vertexValences(out);
+  if (out.squares.empty()) return valence;
+  std::vector<Triangle> present;
+  present.reserve(out.triangles.size());
+  for (const auto& t : out.triangles) present.push_back(canonicalTriangle(t));
+  std::sort(present.begin(), present.end());
+  const auto has = [&](const Triangle& t) {
+    return std::binary_search(present.begin(), present.end(), canonicalTriangle(t));
+  };
+  for (const auto& [c0, c1, c2, c3] : out.squares)
+    if (has({c0, c1, c2}) && has({c0, c2, c3})) --valence[c0], --valence[c2];
+  return valence;
+}
+
 std::vector<Eigen::Vector3d> vertexNormals(const Assembly& out) {
   std::vector<Eigen::Vector3d> normal(out.positions.size(), Eigen::Vector3d::Zero());
   for (const auto& t : out.triangles) {

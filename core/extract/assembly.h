@@ -24,6 +24,8 @@ struct Assembly {
   /// N = 4: the unit lattice squares (counter-clockwise corners), each also in `triangles` as
   /// (0, 1, 2) and (0, 2, 3); the quad output pairs the two triangles again where both remain.
   std::vector<std::array<int, 4>> squares;
+  /// N of the lattice: 6 (Eisenstein: triangles) or 4 (Gauss: squares).
+  int latticeOrder = 6;
 
   int addVertex(const Eigen::Vector3d& p, int inputComponent) {
     positions.push_back(p);
@@ -38,6 +40,10 @@ std::vector<double> localEdgeLength(const Assembly& out);
 
 /// Per vertex: the number of distinct neighbours in the triangles.
 std::vector<int> vertexValences(const Assembly& out);
+
+/// Per vertex: the number of its edges in the output polygons: vertexValences less, for N = 4,
+/// the diagonals of the squares whose two triangles are both in `out.triangles`.
+std::vector<int> polygonValences(const Assembly& out);
 
 /// Area-weighted normal of the triangles at each vertex (zero where none).
 std::vector<Eigen::Vector3d> vertexNormals(const Assembly& out);

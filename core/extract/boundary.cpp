@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <optional>
 #include <unordered_set>
 
@@ -407,7 +408,9 @@ int improveByFlips(const std::vector<Eigen::Vector3d>& positions,
 }
 
 int slideBoundarySamples(const BoundaryIndex& index, std::vector<LoopSamples>& samples,
-                         const std::vector<Triangle>& region, std::vector<Eigen::Vector3d>& positions) {
+                         const std::vector<Triangle>& region,
+                         std::vector<Eigen::Vector3d>& positions,
+                         const std::vector<std::array<int, 4>>& squares) {
   constexpr int kCandidates = 16, kPasses = 2;
   constexpr double kClearance = 0.3;  // least distance to a neighbour, in sample spacings
   // A slide may not let the loop stray farther than this many spacings from the sample's edges
@@ -423,9 +426,23 @@ int slideBoundarySamples(const BoundaryIndex& index, std::vector<LoopSamples>& s
       if (const auto it = triangles.find(v); it != triangles.end())
         it->second.push_back(static_cast<int>(i));
   }
-  // Over the vertex's triangles: the largest angleBadness, and (between positions with the same
-  // largest one) the sum of the squared deviations of the angles from 60°; nullopt when one turns
-  // against its former normal.
+  // N = 4: per region triangle the square it is half of, or −1.
+  std::vector<int> squareOf(region.size(), -1);
+  if (!squares.empty()) {
+    std::map<Triangle, int> halves;
+    for (std::size_t q = 0; q < squares.size(); ++q) {
+      const auto& [c0, c1, c2, c3] = squares[q];
+      halves[canonicalTriangle({c0, c1, c2})] = halves[canonicalTriangle({c0, c2, c3})] =
+          static_cast<int>(q);
+    }
+    for (std::size_t i = 0; i < region.size(); ++i)
+      if (const auto it = halves.find(canonicalTriangle(region[i])); it != halves.end())
+        squareOf[i] = it->second;
+  }
+  // Over the vertex's polygons (its triangles, or the squares they are halves of): the largest
+  // angleBadness (a square's: its worst corner's deviation from 90° over kQuadCornerWindow), and
+  // (between positions with the same largest one) the sum of the squared deviations of the
+  // angles from their ideal; nullopt when a triangle turns against its former normal.
   struct Badness {
     double worst = 0.0, sumOfSquares = 0.0;
     bool betterThan(const Badness& other) const {
@@ -436,8 +453,19 @@ int slideBoundarySamples(const BoundaryIndex& index, std::vector<LoopSamples>& s
   };
   const auto badness = [&](int v) -> std::optional<Badness> {
     Badness b;
+    std::vector<int> judged;  // the squares at v already judged
     for (const int i : triangles.at(v)) {
       if (!(areaNormal(positions, region[i]).dot(normal[i]) > 0.0)) return std::nullopt;
+      if (const int q = squareOf[i]; q >= 0) {
+        if (std::find(judged.begin(), judged.end(), q) != judged.end()) continue;
+        judged.push_back(q);
+        std::array<Eigen::Vector3d, 4> corners;
+        for (int k = 0; k < 4; ++k) corners[k] = positions[squares[q][k]];
+        b.worst = std::max(b.worst, worstCornerDeviation(corners) / kQuadCornerWindow);
+        for (std::size_t k = 0; k < 4; ++k)
+          b.sumOfSquares += std::pow(cornerDeviation(corners, k), 2);
+        continue;
+      }
       const auto corners = cornersOf(positions, region[i]);
       b.worst = std::max(b.worst, angleBadness(angleRange(corners)));
       b.sumOfSquares += squaredAngleDeviation(corners);

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -17,6 +18,13 @@
 namespace hexcover::extract_detail {
 
 using Triangle = std::array<int, 3>;
+
+/// The triangle's corners rotated so that the smallest comes first (its orientation kept): one
+/// key per triangle.
+inline Triangle canonicalTriangle(Triangle t) {
+  std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+  return t;
+}
 
 /// The directed edges (u, v) of a triangle set, grouped by u, each with the third vertex of its
 /// triangle, in triangle order. A lookup scans u's few edges: several times faster than a hash
@@ -135,9 +143,13 @@ struct LoopSamples {
 /// turned against its normal before the slide, among the positions where the input loop stays
 /// within a quarter spacing of the sample's two edges (or no farther than before the slide).
 /// Two passes; the output boundary stays on the input boundary. Updates `positions` and the
-/// samples' arcs; returns the number of moves.
+/// samples' arcs; returns the number of moves. N = 4: region triangles that are halves of one of
+/// `squares` (Assembly::squares) are judged as that square: its worst corner's deviation from
+/// 90° over kQuadCornerWindow, and the squared deviations of its corners.
 int slideBoundarySamples(const BoundaryIndex& index, std::vector<LoopSamples>& samples,
-                         const std::vector<Triangle>& region, std::vector<Eigen::Vector3d>& positions);
+                         const std::vector<Triangle>& region,
+                         std::vector<Eigen::Vector3d>& positions,
+                         const std::vector<std::array<int, 4>>& squares = {});
 
 /// Triangulates the strip between an outer loop (samples on the input boundary, the surface on
 /// its left) and an inner front (a boundary loop of the lattice triangles, which lie on its left),

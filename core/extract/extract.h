@@ -32,7 +32,9 @@
 //    that every front vertex gets valence 6 (6 − a samples for a lattice edges), which keeps the
 //    irregular vertices at the singularities next to the boundary too; a sharp corner replaces
 //    the nearest sample within half a spacing, and one turning by more than 80° with no sample
-//    that close gets a sample of its own (its front vertex then has valence 7).
+//    that close gets a sample of its own (its front vertex then has valence 7). For squares
+//    (N = 4) a front vertex with a polygon edges gets 5 − a samples, and along straight stretches
+//    of the front the strip is a row of squares (valence 4 at the front).
 // 6. Components of the input whose remesh has fewer triangles than one hexagon (6), or not the
 //    component's topology (Euler characteristic, boundary loops, one piece), are copied
 //    unchanged. When every component is copied, steps 7 and 8 are skipped: the output is the

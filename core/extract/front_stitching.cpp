@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "core/extract/boundary.h"
+#include "core/extract/fan_geometry.h"
 
 namespace hexcover::extract_detail {
 namespace {
@@ -56,11 +57,16 @@ constexpr double kOwnSampleCornerAngle = 80.0;
 /// 5.2: irregular vertices only at singularities). A front vertex with a = latticeValence lattice
 /// edges is joined
 /// to d = max(1, 6 − a) consecutive boundary samples; neighbouring front vertices share one, so
-/// the loop gets Σ(d − 1) samples. The sample shared by two front vertices sits at the middle of
-/// their arc positions on the loop, the others of a front vertex evenly between its shared ones.
-/// Each sharp corner of the loop takes the place of the nearest free sample within kCornerReach
-/// spacings. Returns false (and adds nothing) for a front that runs back along the loop, corners
-/// that would reorder the samples, or fewer than 3 samples.
+/// the loop gets Σ(d − 1) samples. For squares (N = 4; a counts polygon edges, the squares'
+/// diagonals left out) d = max(1, 5 − a): along a straight stretch of front (d = 2) a front step
+/// {f_j+1, f_j, s} and the next outer step {s, s', f_j+1} make the square (s, s', f_j+1, f_j),
+/// with s at f_j's place on the loop, so the strip is a row of rectangles and every front vertex
+/// keeps valence 4; at the front's corners the triangles stay for pairTriangles. The sample shared
+/// by two front vertices sits at the middle of their arc positions on the loop, the others of a
+/// front vertex evenly between its shared ones. Each sharp corner of the loop takes the place of
+/// the nearest free sample within kCornerReach spacings. Returns false (and adds nothing) for a
+/// front that runs back along the loop, corners that would reorder the samples, or fewer than 3
+/// samples.
 bool stitchFrontByValence(const BoundaryIndex& index, int loop, int component,
                           const std::vector<int>& front, const std::vector<double>& frontArc,
                           const std::vector<int>& latticeValence, double spacing,
@@ -71,17 +77,24 @@ bool stitchFrontByValence(const BoundaryIndex& index, int loop, int component,
   const double length = index.loopLength(loop);
   if (frontArc.back() - frontArc.front() > length) return false;
   // Front vertex j is joined to samples first[j] .. first[j + 1] (indices modulo the count).
+  const bool squares = out.latticeOrder == 4;
+  const int full = squares ? 5 : 6;  // valence 6, or valence 4 and one strip edge a diagonal
   std::vector<int> first(n + 1, 0);
   for (std::size_t j = 0; j < n; ++j)
-    first[j + 1] = first[j] + std::max(1, 6 - latticeValence[front[j]]) - 1;
+    first[j + 1] = first[j] + std::max(1, full - latticeValence[front[j]]) - 1;
   int m = first[n];
   if (m < 3) return false;
 
   // Unwrapped arcs: sample m is sample 0 one loop later.
   const auto arcOf = [&](std::size_t j) { return j < n ? frontArc[j] : frontArc[j - n] + length; };
   std::vector<double> sum(m + 1, 0.0), count(m + 1, 0.0);
+  // The sample shared by front vertices j and j + 1 sits between them; in a row of squares at
+  // f_j's place, the end of f_j's strip edge in the square (f_j, s, s', f_j+1). A front vertex
+  // on a straight stretch of the front has two samples.
+  const auto straight = [&](std::size_t j) { return first[j + 1] - first[j] == 1; };
   for (std::size_t j = 0; j < n; ++j) {
-    sum[first[j + 1]] += 0.5 * (arcOf(j) + arcOf(j + 1));
+    const bool row = squares && straight(j) && straight((j + 1) % n);
+    sum[first[j + 1]] += row ? arcOf(j) : 0.5 * (arcOf(j) + arcOf(j + 1));
     count[first[j + 1]] += 1.0;
   }
   sum[0] += sum[m] - count[m] * length;
@@ -168,6 +181,11 @@ bool stitchFrontByValence(const BoundaryIndex& index, int loop, int component,
     for (int k = first[j]; k < first[j + 1]; ++k)
       added.push_back({sample[k % m], sample[(k + 1) % m], front[j]});
     added.push_back({front[(j + 1) % n], front[j], sample[first[j + 1] % m]});
+    // N = 4: the front step and the outer step of front vertex j + 1, along a straight stretch.
+    const std::size_t next = (j + 1) % n;
+    if (squares && straight(j) && straight(next))
+      out.squares.push_back(
+          {sample[first[next] % m], sample[(first[next] + 1) % m], front[next], front[j]});
   }
   // For the slides: the samples in ascending arc order in [0, length).
   LoopSamples samples{loop, spacing, {}, {}, {}};
@@ -354,7 +372,8 @@ void closeBoundaries(const TriMesh& mesh, const std::vector<int>& faceComponent,
     if (owner[i] < 0 && componentHasLattice[inputLoopComponent[i]]) ++report.unmatchedBoundaryLoops;
 
   const std::vector<Eigen::Vector3d> normals = vertexNormals(out);
-  const std::vector<int> latticeValence = vertexValences(out);
+  const std::vector<int> latticeValence = polygonValences(out);
+  const std::size_t latticeSquares = out.squares.size();  // then the strips' (N = 4)
   // Strip and fill triangles: `added` may be flipped; `regular` (stitched by valence) keeps its
   // connectivity, which gives every front vertex valence 6.
   std::vector<Triangle> added, regular;
@@ -383,11 +402,24 @@ void closeBoundaries(const TriMesh& mesh, const std::vector<int>& faceComponent,
     all.insert(all.end(), regular.begin(), regular.end());
     return all;
   };
-  report.boundarySlides += slideBoundarySamples(index, loopSamples, strips(), out.positions);
+  report.boundarySlides +=
+      slideBoundarySamples(index, loopSamples, strips(), out.positions, out.squares);
   out.triangles.insert(out.triangles.end(), regular.begin(), regular.end());
   report.stripFlips += improveByFlips(out.positions, out.triangles, added);
-  report.boundarySlides += slideBoundarySamples(index, loopSamples, strips(), out.positions);
+  report.boundarySlides +=
+      slideBoundarySamples(index, loopSamples, strips(), out.positions, out.squares);
   out.triangles.insert(out.triangles.end(), added.begin(), added.end());
+  // A strip square whose corners the slides could not bring within kQuadCornerWindow of 90°
+  // stays two triangles (which pairTriangles may still pair otherwise).
+  const auto far = [&](const std::array<int, 4>& square) {
+    std::array<Eigen::Vector3d, 4> corners;
+    for (int k = 0; k < 4; ++k) corners[k] = out.positions[square[k]];
+    return worstCornerDeviation(corners) > kQuadCornerWindow;
+  };
+  out.squares.erase(
+      std::remove_if(out.squares.begin() + static_cast<std::ptrdiff_t>(latticeSquares),
+                     out.squares.end(), far),
+      out.squares.end());
 }
 
 }  // namespace hexcover::extract_detail

@@ -382,6 +382,7 @@ void extractLattice(const TriMesh& mesh, const Parameterization& param,
                     const std::vector<int>& faceComponent, Assembly& out, ExtractionReport& report,
                     const RunContext& context) {
   context.report("extract", 0.0);
+  out.latticeOrder = param.n;
   const ExactChart chart = [&] {
     ScopedTimer timer(report.timings, "sanitize");
     return sanitize(mesh, param, report, context);
