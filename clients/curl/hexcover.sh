@@ -4,10 +4,11 @@
 #   hexcover.sh [--url URL] remesh MESH [--vertices N | --edge-length L] [--rosy 4|6]
 #               [--sizing uniform|curvature] [--placement balanced|on_surface] [--feature-angle DEG]
 #               [--d-sing D] [--out DIR] [--formats obj,ply,...]
-#               [--meshes triangles,hexagons,textured] [--timeout SECONDS]
+#               [--meshes triangles,quads,hexagons,textured] [--timeout SECONDS]
 #       upload MESH, follow the job on stderr, download the results to DIR, print the metrics
 #   hexcover.sh [--url URL] status|metrics|cancel JOB_ID
-#   hexcover.sh [--url URL] download JOB_ID FILE [--mesh triangles|hexagons|textured] [--format F]
+#   hexcover.sh [--url URL] download JOB_ID FILE [--mesh triangles|quads|hexagons|textured]
+#               [--format F]
 #
 # URL defaults to $HEXCOVER_URL or http://localhost:8080. Exit status: 0 success, 1 the service
 # refused the request or the job failed (the problem document's title and detail on stderr),
@@ -49,7 +50,7 @@ progress_line() {
 }
 
 remesh() {
-  local mesh="" out="" formats=obj meshes=triangles,hexagons,textured timeout=3600 query=()
+  local mesh="" out="" formats=obj meshes=triangles,quads,hexagons,textured timeout=3600 query=()
   while (($#)); do
     case $1 in
       --vertices) query+=("vertices=$2"); shift 2 ;;

@@ -60,6 +60,15 @@ check "OFF header counts = metrics" \
 "$client" download "$id" "$work/one.ply" >/dev/null 2>&1
 check "download by extension writes a PLY" test "$(head -c 3 "$work/one.ply")" = ply
 
+# A quad job: the results offered are downloaded, the quads among them, and no hexagons.
+"$client" remesh "$work/sphere.obj" --rosy 4 --vertices 300 --out "$work/quads" --timeout 150 \
+  >"$work/quads.json" 2>/dev/null
+check "a quad remesh exits 0" test $? -eq 0
+check "its quads are downloaded" test -s "$work/quads/sphere-quads.obj"
+check "as faces of four corners" \
+  test "$(grep '^f ' "$work/quads/sphere-quads.obj" | awk '{print NF - 1}' | sort -u)" = 4
+check "and no hexagonal dual" test ! -e "$work/quads/sphere-hexagons.obj"
+
 # 5 vertices are fewer than a closed lattice of the sphere takes: each warning goes to stderr.
 "$client" remesh "$work/sphere.obj" --vertices 5 --timeout 150 >"$work/few.json" 2>"$work/few.err"
 check "a remesh at 5 vertices exits 0" test $? -eq 0
