@@ -1,9 +1,7 @@
 #include "core/extract/quad_mesh.h"
 
 #include <algorithm>
-#include <map>
 #include <tuple>
-#include <utility>
 
 #include "core/extract/fan_geometry.h"
 
@@ -31,21 +29,16 @@ struct PolygonAdjacency {
       : polygons(soup.vertexCount()),
         neighbours(soup.vertexCount()),
         onBoundary(soup.vertexCount(), false) {
-    std::map<std::pair<int, int>, int> edgeUses;
-    for (std::size_t f = 0; f < soup.faceCount(); ++f) {
-      const std::size_t size = soup.faceSize(f);
-      for (std::size_t k = 0; k < size; ++k) {
-        const int a = static_cast<int>(soup.cornerVertices[soup.faceStarts[f] + k]);
-        const int b = static_cast<int>(soup.cornerVertices[soup.faceStarts[f] + (k + 1) % size]);
-        polygons[a].push_back(static_cast<int>(f));
-        if (++edgeUses[{std::min(a, b), std::max(a, b)}] == 1) {
-          neighbours[a].push_back(b);
-          neighbours[b].push_back(a);
-        }
-      }
+    for (std::size_t f = 0; f < soup.faceCount(); ++f)
+      for (std::size_t k = soup.faceStarts[f]; k < soup.faceStarts[f + 1]; ++k)
+        polygons[soup.cornerVertices[k]].push_back(static_cast<int>(f));
+    const SoupEdges edges = soupEdges(soup);
+    for (std::size_t e = 0; e < edges.edges.size(); ++e) {
+      const auto [a, b] = edges.edges[e];
+      neighbours[a].push_back(static_cast<int>(b));
+      neighbours[b].push_back(static_cast<int>(a));
+      if (edges.uses[e] == 1) onBoundary[a] = onBoundary[b] = true;
     }
-    for (const auto& [edge, uses] : edgeUses)
-      if (uses == 1) onBoundary[edge.first] = onBoundary[edge.second] = true;
   }
 };
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "core/common/concurrency.h"
@@ -318,8 +319,7 @@ class SurfaceFit {
         // Σ (α − 60°)².
         const auto excess = [&](const Vec3& p) { return goalExcess(fanAngleRange(remesh_, v, p)); };
         const std::array<double, 2> before = excess(current);
-        double bestExcess = before[0] + before[1];
-        double bestVariance = fanAngleVariance(v, current);
+        std::optional<std::pair<double, double>> best;  // (excess, Σ (α − 60°)²) of bestPosition
         Vec3 bestPosition = current;
         DeviationBounds bounds(*this, v, fanDeviation(v, current, kOutlierDivisions),
                                creaseDeviation(v, current, kInfinity), kOutlierDivisions);
@@ -334,17 +334,16 @@ class SurfaceFit {
         for (const Vec3& trial : trialPositions(v)) {
           const Vec3 candidate = inputQuery_.closest(trial, hint).point;
           const std::array<double, 2> after = excess(candidate);
-          if (after[0] > before[0] || after[1] > before[1]) continue;
-          const double total = after[0] + after[1], variance = fanAngleVariance(v, candidate);
-          if (total < bestExcess ||
-              (total == bestExcess && variance < bestVariance && bestPosition != current)) {
-            if (!keepsPoints(candidate) || !bounds.admit(candidate)) continue;
-            bestExcess = total;
-            bestVariance = variance;
-            bestPosition = candidate;
-          }
+          if (after[0] > before[0] || after[1] > before[1] ||
+              !(after[0] + after[1] < before[0] + before[1]))
+            continue;
+          const std::pair score{after[0] + after[1], fanAngleVariance(v, candidate)};
+          if ((best && !(score < *best)) || !keepsPoints(candidate) || !bounds.admit(candidate))
+            continue;
+          best = score;
+          bestPosition = candidate;
         }
-        if (bestPosition == current) continue;
+        if (!best) continue;
         remesh_.set_point(v, toOpenMesh(bestPosition));
         moved_[v.idx()] = 1;
         for (const auto w : v.vertices()) touched[w.idx()] = 1;

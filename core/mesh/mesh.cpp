@@ -1,6 +1,8 @@
 #include "core/mesh/mesh.h"
 
 #include <array>
+#include <map>
+#include <utility>
 
 namespace hexcover {
 
@@ -29,6 +31,25 @@ PolygonSoup toPolygonSoup(const TriMesh& mesh) {
     soup.addFace(corners);
   }
   return soup;
+}
+
+SoupEdges soupEdges(const PolygonSoup& soup) {
+  SoupEdges result;
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::size_t> index;  // (min, max) -> edge
+  for (std::size_t f = 0; f < soup.faceCount(); ++f) {
+    const std::size_t start = soup.faceStarts[f], size = soup.faceSize(f);
+    for (std::size_t k = 0; k < size; ++k) {
+      const std::uint32_t a = soup.cornerVertices[start + k];
+      const std::uint32_t b = soup.cornerVertices[start + (k + 1) % size];
+      const auto [it, added] = index.try_emplace(std::minmax(a, b), result.edges.size());
+      if (added) {
+        result.edges.push_back({a, b});
+        result.uses.push_back(0);
+      }
+      ++result.uses[it->second];
+    }
+  }
+  return result;
 }
 
 }  // namespace hexcover

@@ -10,10 +10,10 @@
 // writers take (polygon meshes such as the hexagonal dual, and meshes with per-corner texture
 // coordinates).
 
-#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
-
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -55,5 +55,14 @@ double boundingBoxDiagonal(const TriMesh& mesh);
 
 /// The mesh as a polygon soup (triangles, no texture coordinates), vertex and face order kept.
 PolygonSoup toPolygonSoup(const TriMesh& mesh);
+
+/// The distinct edges of a polygon soup's faces, in the order the faces first use them (face by
+/// face, side by side), each as its two vertices in that first side's direction, with the number
+/// of face sides on it (1: a boundary edge).
+struct SoupEdges {
+  std::vector<std::array<std::uint32_t, 2>> edges;
+  std::vector<int> uses;
+};
+SoupEdges soupEdges(const PolygonSoup& soup);
 
 }  // namespace hexcover

@@ -5,8 +5,6 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <map>
-#include <utility>
 #include <vector>
 
 #include "core/common/error.h"
@@ -118,37 +116,33 @@ void measureShape(const TriMesh& mesh, QualityReport& report) {
 /// measureShape of a polygon mesh (see measurePolygonQuality).
 void measurePolygonShape(const PolygonSoup& mesh, QualityReport& report) {
   ShapeTally tally;
-  std::map<std::pair<std::uint32_t, std::uint32_t>, int> edgeUses;
   for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
     const std::size_t size = mesh.faceSize(f);
-    const auto vertex = [&](std::size_t k) {
-      return mesh.cornerVertices[mesh.faceStarts[f] + k % size];
-    };
     const auto at = [&](std::size_t k) -> const Eigen::Vector3d& {
-      return mesh.positions[vertex(k)];
+      return mesh.positions[mesh.cornerVertices[mesh.faceStarts[f] + k % size]];
     };
     double smallest = 180.0;
     for (std::size_t k = 0; k < size; ++k) {
       const double angle = angleDegrees(at(k + 1) - at(k), at(k + size - 1) - at(k));
       tally.addAngle(angle);
       smallest = std::min(smallest, angle);
-      const std::uint32_t a = vertex(k), b = vertex(k + 1);
-      if (++edgeUses[{std::min(a, b), std::max(a, b)}] == 1)
-        tally.edges.add((at(k + 1) - at(k)).norm());
     }
     tally.minAngles.add(smallest);
     report.quads += size == 4;
     if (size == 3) tally.addTriangle(at(0), at(1), at(2));
   }
-  tally.store(report);
-
+  const SoupEdges soup = soupEdges(mesh);
   std::vector<int> valence(mesh.vertexCount(), 0);
   std::vector<bool> onBoundary(mesh.vertexCount(), false);
-  for (const auto& [edge, uses] : edgeUses) {
-    ++valence[edge.first];
-    ++valence[edge.second];
-    if (uses == 1) onBoundary[edge.first] = onBoundary[edge.second] = true;
+  for (std::size_t e = 0; e < soup.edges.size(); ++e) {
+    const auto [a, b] = soup.edges[e];
+    tally.edges.add((mesh.positions[b] - mesh.positions[a]).norm());
+    ++valence[a];
+    ++valence[b];
+    if (soup.uses[e] == 1) onBoundary[a] = onBoundary[b] = true;
   }
+  tally.store(report);
+
   for (std::size_t v = 0; v < valence.size(); ++v) {
     if (valence[v] == 0) continue;  // isolated vertex
     ++report.vertices;

@@ -71,20 +71,15 @@ TEST(EndToEnd, QuadJobOffersTheQuadRemeshInEveryFormatAndNoHexagons) {
   EXPECT_EQ(quads, faces) << "a closed sphere: quads only";
   EXPECT_EQ(metrics.at("irregular_interior"), 8);
   for (const std::string format : {"obj", "ply", "off"}) {
-    const auto download = client.Get((self + "/result?mesh=quads&format=" + format).c_str());
-    ASSERT_TRUE(download && download->status == 200) << format;
-    const auto file = dir.path() / ("quads." + format);
-    std::ofstream(file, std::ios::binary) << download->body;
-    const PolygonSoup soup = readMesh(file);
+    const PolygonSoup soup =
+        parseDownload(downloadResult(client, self, "quads", format), format, dir.path());
     EXPECT_EQ(static_cast<long long>(soup.faceCount()), faces) << format;
     for (std::size_t f = 0; f < soup.faceCount(); ++f) ASSERT_EQ(soup.faceSize(f), 4u) << format;
   }
   // The triangles of the same remesh: two per quad.
-  const auto triangles = client.Get((self + "/result?mesh=triangles&format=obj").c_str());
-  ASSERT_TRUE(triangles && triangles->status == 200);
-  const auto file = dir.path() / "triangles.obj";
-  std::ofstream(file, std::ios::binary) << triangles->body;
-  EXPECT_EQ(static_cast<long long>(readMesh(file).faceCount()), 2 * quads);
+  const PolygonSoup triangles =
+      parseDownload(downloadResult(client, self, "triangles", "obj"), "obj", dir.path());
+  EXPECT_EQ(static_cast<long long>(triangles.faceCount()), 2 * quads);
   const auto hexagons = client.Get((self + "/result?mesh=hexagons&format=obj").c_str());
   ASSERT_TRUE(hexagons);
   EXPECT_EQ(hexagons->status, 404);

@@ -60,6 +60,26 @@ inline std::pair<long long, long long> glbCounts(const std::string& bytes,
           static_cast<long long>(model.accessors[primitive.attributes.at("POSITION")].count)};
 }
 
+/// The body of GET {self}/result?format=...&mesh=..., expecting 200 and a Content-Disposition
+/// that names the mesh and format; empty on failure.
+inline std::string downloadResult(httplib::Client& client, const std::string& self,
+                                  const std::string& mesh, const std::string& format) {
+  const auto res = client.Get((self + "/result?format=" + format + "&mesh=" + mesh).c_str());
+  EXPECT_TRUE(res && res->status == 200) << mesh << "." << format;
+  if (!res || res->status != 200) return std::string();
+  EXPECT_NE(res->get_header_value("Content-Disposition").find(mesh + "." + format),
+            std::string::npos);
+  return res->body;
+}
+
+/// A downloaded mesh read back through a file of its format in `scratch`.
+inline PolygonSoup parseDownload(const std::string& bytes, const std::string& format,
+                                 const std::filesystem::path& scratch) {
+  const auto file = scratch / ("download." + format);
+  std::ofstream(file, std::ios::binary) << bytes;
+  return readMesh(file);
+}
+
 /// Downloads every result of a succeeded job and checks that each parses and agrees with the
 /// metrics document (face and vertex counts, hexagon counts) and the input report.
 inline void expectResultsAgreeWithMetrics(httplib::Client& client, const nlohmann::json& job,
@@ -77,17 +97,10 @@ inline void expectResultsAgreeWithMetrics(httplib::Client& client, const nlohman
   EXPECT_GT(hexagons, 0);
 
   const auto download = [&](const std::string& mesh, const std::string& format) {
-    const auto res = client.Get((self + "/result?format=" + format + "&mesh=" + mesh).c_str());
-    EXPECT_TRUE(res && res->status == 200) << mesh << "." << format;
-    if (!res || res->status != 200) return std::string();
-    EXPECT_NE(res->get_header_value("Content-Disposition").find(mesh + "." + format),
-              std::string::npos);
-    return res->body;
+    return downloadResult(client, self, mesh, format);
   };
   const auto parse = [&](const std::string& bytes, const std::string& format) {
-    const auto file = scratch / ("download." + format);
-    std::ofstream(file, std::ios::binary) << bytes;
-    return readMesh(file);
+    return parseDownload(bytes, format, scratch);
   };
 
   for (const std::string format : {"obj", "ply", "off", "stl"}) {
