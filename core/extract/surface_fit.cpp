@@ -755,8 +755,16 @@ class SurfaceFit {
     // Queries start from the input face nearest p, which makes them short; that one's from an
     // input face whose centroid is assigned to the fan (the result does not depend on it).
     const auto self = inputQuery_.closest(p, assignedInputFace(v));
-    const int hint = self.face;
     deviation = std::max(deviation, self.distance);
+    // A sample no farther from the input face nearest the previous sample than the largest
+    // distance so far cannot raise it: the exact search runs only for the others.
+    int near = self.face;
+    const auto raiseBy = [&](const Vec3& q) {
+      if (inputQuery_.distanceToFace(q, near) <= deviation) return;
+      const auto closest = inputQuery_.closest(q, near);
+      near = closest.face;
+      deviation = std::max(deviation, closest.distance);
+    };
     if (divisions > 1) {
       for (const auto& t : fan)
         for (int i = 0; i <= divisions; ++i)
@@ -765,8 +773,7 @@ class SurfaceFit {
             if (i == divisions || j == divisions || k == divisions) continue;
             const int weightAtV = t[0] == p ? i : t[1] == p ? j : k;
             if (weightAtV == 0) continue;  // on the edge opposite v: does not move
-            const Vec3 q = (i * t[0] + j * t[1] + k * t[2]) / divisions;
-            deviation = std::max(deviation, inputQuery_.closest(q, hint).distance);
+            raiseBy((i * t[0] + j * t[1] + k * t[2]) / divisions);
             if (deviation > stopAbove) return deviation;
           }
       return deviation;
@@ -776,7 +783,7 @@ class SurfaceFit {
     for (const auto w : v.vertices()) samples.push_back(0.5 * (p + position(w)));
     for (const Vec3& q : samples) {
       if (deviation > stopAbove) break;
-      deviation = std::max(deviation, inputQuery_.closest(q, hint).distance);
+      raiseBy(q);
     }
     return deviation;
   }
