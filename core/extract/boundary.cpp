@@ -516,9 +516,13 @@ int slideBoundarySamples(const BoundaryIndex& index, std::vector<LoopSamples>& s
   return moves;
 }
 
-long long flipBoundarySlivers(TriMesh& mesh, double belowDegrees) {
+long long flipBoundarySlivers(TriMesh& mesh, double belowDegrees,
+                              OpenMesh::FPropHandleT<bool> fixed) {
   constexpr int kPasses = 3;
   const auto point = [&](OpenMesh::VertexHandle v) { return toEigen(mesh.point(v)); };
+  const auto isFixed = [&](OpenMesh::FaceHandle f) {
+    return fixed.is_valid() && mesh.property(fixed, f);
+  };
   long long flips = 0;
   for (int pass = 0; pass < kPasses; ++pass) {
     long long passFlips = 0;
@@ -528,6 +532,7 @@ long long flipBoundarySlivers(TriMesh& mesh, double belowDegrees) {
       const auto h = e.h0();
       const auto a = h.from(), b = h.to(), c = h.next().to(), d = e.h1().next().to();
       if (!(a.is_boundary() || b.is_boundary() || c.is_boundary() || d.is_boundary())) continue;
+      if (isFixed(h.face()) || isFixed(e.h1().face())) continue;
       if (!flipRaisesSmallestAngle(point(a), point(b), point(c), point(d), belowDegrees) ||
           !mesh.is_flip_ok(e))
         continue;
@@ -540,9 +545,16 @@ long long flipBoundarySlivers(TriMesh& mesh, double belowDegrees) {
   return flips;
 }
 
-long long collapseBoundarySlivers(TriMesh& mesh, double belowDegrees, double straightWithin) {
+long long collapseBoundarySlivers(TriMesh& mesh, double belowDegrees, double straightWithin,
+                                  OpenMesh::FPropHandleT<bool> fixed) {
   constexpr int kPasses = 3;
   const auto point = [&](OpenMesh::VertexHandle v) { return toEigen(mesh.point(v)); };
+  const auto touchesFixed = [&](OpenMesh::SmartVertexHandle v) {
+    if (!fixed.is_valid()) return false;
+    for (const auto f : v.faces())
+      if (mesh.property(fixed, f)) return true;
+    return false;
+  };
   const auto smallestAngle = [&](OpenMesh::SmartFaceHandle f) {
     return angleRange(facePositions(mesh, f, OpenMesh::VertexHandle(), Eigen::Vector3d::Zero()))[0];
   };
@@ -573,7 +585,7 @@ long long collapseBoundarySlivers(TriMesh& mesh, double belowDegrees, double str
         for (const auto h : {edge, edge.opp()}) {
           const auto from = h.from();
           if (from.is_boundary() && !(h.edge().is_boundary() && onStraightBoundary(from))) continue;
-          if (!mesh.is_collapse_ok(h)) continue;
+          if (touchesFixed(from) || !mesh.is_collapse_ok(h)) continue;
           double before = 180.0;
           for (const auto g : from.faces()) before = std::min(before, smallestAngle(g));
           // from's remaining triangles once it sits on h.to() (0 when one turns too far).

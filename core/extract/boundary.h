@@ -177,8 +177,10 @@ void alignFrontToLoop(const std::vector<double>& outerArc, std::vector<int>& fro
 /// Step 8 of extraction: flips the interior edges of triangles at the boundary of `mesh` whose
 /// smallest angle is below `belowDegrees`, when the flip raises the pair's smallest angle and
 /// both new triangles face within 60° of the pair's area-weighted normal (up to 3 passes).
-/// Returns the number of flips.
-long long flipBoundarySlivers(TriMesh& mesh, double belowDegrees);
+/// Returns the number of flips. Faces marked by `fixed` (a face property of `mesh`; an invalid
+/// handle marks none) keep their vertices (N = 4: the halves of squares).
+long long flipBoundarySlivers(TriMesh& mesh, double belowDegrees,
+                              OpenMesh::FPropHandleT<bool> fixed = {});
 
 /// Step 8, before the flips: a boundary vertex of `mesh` whose boundary runs straight (its
 /// triangles' angles sum to 180° ± `straightWithin`, so not a corner) and that has a triangle
@@ -186,9 +188,11 @@ long long flipBoundarySlivers(TriMesh& mesh, double belowDegrees);
 /// smallest angle of its remaining triangles is largest, when that is larger than before and no
 /// triangle turns by more than 60° (up to 3 passes). Where the input boundary curls in a lip
 /// narrower than an edge length, the strip fans from one lattice vertex to boundary samples
-/// almost in line with it; fewer samples make fewer slivers. Returns the number of collapses;
-/// garbage-collects `mesh` after any.
-long long collapseBoundarySlivers(TriMesh& mesh, double belowDegrees, double straightWithin);
+/// almost in line with it; fewer samples make fewer slivers. A vertex of a face marked by `fixed`
+/// (as in flipBoundarySlivers) stays. Returns the number of collapses; garbage-collects `mesh`
+/// after any (its properties move along).
+long long collapseBoundarySlivers(TriMesh& mesh, double belowDegrees, double straightWithin,
+                                  OpenMesh::FPropHandleT<bool> fixed = {});
 
 /// Closes a hole bounded by `loop` (a boundary loop of the triangles, triangles on its left):
 /// one triangle for 3 vertices, the shorter diagonal for 4, else a fan around a new vertex at the

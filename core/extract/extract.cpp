@@ -1,7 +1,9 @@
 #include "core/extract/extract.h"
 
+#include <algorithm>
 #include <optional>
 #include <string>
+#include <unordered_map>
 
 #include "core/common/error.h"
 #include "core/extract/assembly.h"
@@ -57,6 +59,40 @@ std::vector<int> faceComponents(const TriMesh& mesh, int& count) {
     ++count;
   }
   return component;
+}
+
+/// Step 8 for N = 4: the sliver repairs on the triangles that are no half of a square (boundary
+/// strips, hole fills); `partner` (squarePartners) follows the collapses' renumbering of faces.
+void repairSliversBesideSquares(TriMesh& triangles, std::vector<int>& partner,
+                                const ExtractOptions& options, ExtractionReport& report) {
+  OpenMesh::FPropHandleT<bool> halfOfSquare;
+  OpenMesh::FPropHandleT<int> square;  // the lower face index of the square, or partner's code
+  triangles.add_property(halfOfSquare);
+  triangles.add_property(square);
+  for (const auto f : triangles.faces()) {
+    const int other = partner[f.idx()];
+    triangles.property(halfOfSquare, f) = other >= 0;
+    triangles.property(square, f) = other >= 0 ? std::min(f.idx(), other) : other;
+  }
+  report.boundarySliverCollapses = collapseBoundarySlivers(
+      triangles, options.sliverAngle, options.sharpBoundaryAngle, halfOfSquare);
+  report.boundarySliverFlips = flipBoundarySlivers(triangles, options.sliverAngle, halfOfSquare);
+  partner.assign(triangles.n_faces(), kUnpaired);
+  std::unordered_map<int, int> firstHalf;
+  for (const auto f : triangles.faces()) {
+    const int id = triangles.property(square, f);
+    if (id < 0) {
+      partner[f.idx()] = id;
+      continue;
+    }
+    const auto [seen, first] = firstHalf.emplace(id, f.idx());
+    if (!first) {
+      partner[f.idx()] = seen->second;
+      partner[seen->second] = f.idx();
+    }
+  }
+  triangles.remove_property(halfOfSquare);
+  triangles.remove_property(square);
 }
 
 }  // namespace
@@ -131,7 +167,7 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
       report.balancedVertices = counts.balanced;
       report.outlierAngleMoves = counts.outliers;
     }
-    // The sliver repairs change the connectivity, which the quads' pairing reads.
+    // N = 4: after the quads' corners are mended, beside the squares (repairSliversBesideSquares).
     if (options.sliverAngle > 0.0 && !quads) {
       report.boundarySliverCollapses = collapseBoundarySlivers(
           result.triangles, options.sliverAngle, options.sharpBoundaryAngle);
@@ -139,16 +175,16 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     }
   }
   if (quads) {
-    result.quads = pairSquares(result.triangles, partner);
     if (!unfitted.empty()) {
+      result.quads = pairSquares(result.triangles, partner);
       report.restoredVertices = restoreQuadCorners(result.quads, result.triangles, unfitted);
       report.centredVertices = centreIrregularVertices(result.quads, result.triangles, *inputQuery);
     }
-    // Pairs that the fit made square enough.
-    if (const long long more = pairTriangles(result.triangles, partner); more > 0) {
-      report.mergedTrianglePairs += more;
-      result.quads = pairSquares(result.triangles, partner);
-    }
+    if (options.sliverAngle > 0.0 && !onlyCopies)
+      repairSliversBesideSquares(result.triangles, partner, options, report);
+    // Pairs that the fit and the repairs made square enough.
+    report.mergedTrianglePairs += pairTriangles(result.triangles, partner);
+    result.quads = pairSquares(result.triangles, partner);
   } else {
     ScopedTimer timer(report.timings, "hexagonal dual");
     context.report("extract", 0.9);

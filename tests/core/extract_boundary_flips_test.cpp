@@ -70,6 +70,13 @@ TEST(BoundaryFlips, FlipBoundarySliversBelowTheFloorOnly) {
   TriMesh wide = rhombusMesh(0.4663);  // tan 25°
   EXPECT_EQ(flipBoundarySlivers(wide, 20.0), 0);
   EXPECT_NEAR(smallestAngle(wide), 25.0, 0.01);
+  // N = 4: a triangle marked fixed (half of a square) keeps its vertices.
+  TriMesh halfOfSquare = rhombusMesh(0.2679);
+  OpenMesh::FPropHandleT<bool> fixed;
+  halfOfSquare.add_property(fixed);
+  for (const auto f : halfOfSquare.faces()) halfOfSquare.property(fixed, f) = f.idx() == 1;
+  EXPECT_EQ(flipBoundarySlivers(halfOfSquare, 20.0, fixed), 0);
+  EXPECT_NEAR(smallestAngle(halfOfSquare), 15.0, 0.01);
 }
 
 // A flat 4 × 3 grid of unit squares (diagonals (x, y)-(x+1, y+1)) whose bottom boundary vertex
@@ -113,6 +120,29 @@ TEST(BoundaryFlips, CollapsesABoundarySampleThatMakesSliversWhereTheBoundaryRuns
   TriMesh regular = grid(1.0);
   EXPECT_EQ(collapseBoundarySlivers(regular, 20.0, 30.0), 0);
   EXPECT_EQ(regular.n_vertices(), 20u);
+
+  // N = 4: the sliver vertex stays while one of its triangles is marked fixed (half of a
+  // square); marks elsewhere do not stop it, and they move along with the faces' renumbering.
+  const auto marked = [&](int x, int y, int triangle) {
+    TriMesh mesh = grid(1.9);
+    OpenMesh::FPropHandleT<bool> fixed;
+    mesh.add_property(fixed);
+    for (const auto f : mesh.faces())
+      mesh.property(fixed, f) = f.idx() == 2 * (y * 4 + x) + triangle;
+    return std::make_pair(std::move(mesh), fixed);
+  };
+  auto [besideSliver, fixedBeside] = marked(1, 0, 0);  // (1, 0)-(2, 0)-(2, 1): a sliver of (1.9, 0)
+  EXPECT_EQ(collapseBoundarySlivers(besideSliver, 20.0, 30.0, fixedBeside), 0);
+  auto [farAway, fixedFar] = marked(3, 2, 1);  // the top right square's upper triangle
+  EXPECT_EQ(collapseBoundarySlivers(farAway, 20.0, 30.0, fixedFar), 1);
+  int fixedFaces = 0;
+  for (const auto f : farAway.faces()) {
+    if (!farAway.property(fixedFar, f)) continue;
+    ++fixedFaces;
+    for (const auto v : f.vertices())  // (3, 2), (4, 3), (3, 3)
+      EXPECT_TRUE(farAway.point(v)[0] >= 3.0 && farAway.point(v)[1] >= 2.0);
+  }
+  EXPECT_EQ(fixedFaces, 1);
 }
 
 TEST(BoundaryFlips, NeverCreatesAnEdgeThatExistsElsewhereOrTouchesOtherTriangles) {
