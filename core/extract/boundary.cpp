@@ -558,13 +558,25 @@ long long collapseBoundarySlivers(TriMesh& mesh, double belowDegrees, double str
   const auto smallestAngle = [&](OpenMesh::SmartFaceHandle f) {
     return angleRange(facePositions(mesh, f, OpenMesh::VertexHandle(), Eigen::Vector3d::Zero()))[0];
   };
-  // A boundary vertex may move only along a boundary that runs straight through it.
-  const auto onStraightBoundary = [&](OpenMesh::SmartVertexHandle v) {
-    double interiorAngle = 0.0;
-    for (const auto h : v.incoming_halfedges())
-      if (!h.is_boundary())
-        interiorAngle += angleAt(point(v), point(h.from()), point(h.next().to()));
-    return std::abs(interiorAngle - 180.0) <= straightWithin;
+  // A boundary vertex may move only along a boundary edge, and only where the boundary runs
+  // straight through it or the boundary without it (the chord from its other boundary
+  // neighbour) stays within kChordDeviation of its edges' mean length: a lip curled at a
+  // fraction of an edge length, not a corner.
+  constexpr double kChordDeviation = 0.25;
+  const auto mayMoveAlong = [&](OpenMesh::SmartHalfedgeHandle h) {
+    const auto v = h.from();
+    double interiorAngle = 0.0, length = 0.0;
+    for (const auto g : v.incoming_halfedges()) {
+      length += (point(g.from()) - point(v)).norm();
+      if (!g.is_boundary())
+        interiorAngle += angleAt(point(v), point(g.from()), point(g.next().to()));
+    }
+    if (std::abs(interiorAngle - 180.0) <= straightWithin) return true;
+    const auto out = v.halfedge();  // the boundary halfedge leaving v
+    const auto other = out.to() == h.to() ? out.prev().from() : out.to();
+    const Eigen::Vector3d a = point(other), chord = point(h.to()) - a;
+    const double t = std::clamp((point(v) - a).dot(chord) / chord.squaredNorm(), 0.0, 1.0);
+    return (point(v) - (a + t * chord)).norm() <= kChordDeviation * length / v.valence();
   };
   mesh.request_vertex_status();
   mesh.request_edge_status();
@@ -584,7 +596,7 @@ long long collapseBoundarySlivers(TriMesh& mesh, double belowDegrees, double str
       for (const auto edge : f.halfedges())
         for (const auto h : {edge, edge.opp()}) {
           const auto from = h.from();
-          if (from.is_boundary() && !(h.edge().is_boundary() && onStraightBoundary(from))) continue;
+          if (from.is_boundary() && !(h.edge().is_boundary() && mayMoveAlong(h))) continue;
           if (touchesFixed(from) || !mesh.is_collapse_ok(h)) continue;
           double before = 180.0;
           for (const auto g : from.faces()) before = std::min(before, smallestAngle(g));

@@ -183,9 +183,10 @@ long long flipBoundarySlivers(TriMesh& mesh, double belowDegrees,
                               OpenMesh::FPropHandleT<bool> fixed = {});
 
 /// Step 8, before the flips: a boundary vertex of `mesh` whose boundary runs straight (its
-/// triangles' angles sum to 180° ± `straightWithin`, so not a corner) and that has a triangle
-/// with an angle below `belowDegrees` is collapsed into the boundary neighbour for which the
-/// smallest angle of its remaining triangles is largest, when that is larger than before and no
+/// triangles' angles sum to 180° ± `straightWithin`, so not a corner), or curls so little that
+/// the boundary without it stays within a quarter of its edges' mean length, and that has a
+/// triangle with an angle below `belowDegrees` is collapsed into the boundary neighbour for which
+/// the smallest angle of its remaining triangles is largest, when that is larger than before and no
 /// triangle turns by more than 60° (up to 3 passes). Where the input boundary curls in a lip
 /// narrower than an edge length, the strip fans from one lattice vertex to boundary samples
 /// almost in line with it; fewer samples make fewer slivers. A vertex of a face marked by `fixed`

@@ -47,11 +47,13 @@
 //    the connectivity stays.
 // 8. Boundary slivers: a triangle at the output boundary that still has an angle below
 //    `sliverAngle` loses an edge by a collapse that raises the smallest angle around it (a
-//    boundary vertex moves only along a straight stretch of boundary, onto its neighbour; an
-//    interior vertex onto any neighbour), then gets the edge flip that raises its pair's
-//    smallest angle. Both move valences away from 6. The collapses remove the fans of slivers
-//    where the input boundary curls in a lip narrower than an edge length (the Stanford
-//    bunny's base at K = V/16 and V/8: 3° and 6° before).
+//    boundary vertex moves only onto a boundary neighbour, where the boundary runs straight or
+//    stays within a quarter edge length without it; an interior vertex onto any neighbour),
+//    then gets the edge flip that raises its pair's smallest angle. Both move valences away
+//    from 6. The collapses remove the fans of slivers where the input boundary curls in a lip
+//    narrower than an edge length (the Stanford bunny's base at K = V/16 and V/8: 3° and 6°
+//    before). For N = 4 both run after the quads' corners are mended, on the triangles that are
+//    no halves of squares.
 
 #include <vector>
 

@@ -82,14 +82,16 @@ TEST(BoundaryFlips, FlipBoundarySliversBelowTheFloorOnly) {
 // A flat 4 × 3 grid of unit squares (diagonals (x, y)-(x+1, y+1)) whose bottom boundary vertex
 // (1, 0) sits at (1.9, 0), 0.1 from its neighbour (2, 0): its triangles are slivers of 6°. The
 // vertex is collapsed along the straight boundary; the corner (0, 0), whose boundary turns by
-// 90°, is not, and a regular grid is left alone.
+// 90°, is not, and a regular grid is left alone. So is the vertex at (1.9, −0.1), a lip of the
+// boundary, but not at (1.9, −0.6), a notch.
 TEST(BoundaryFlips, CollapsesABoundarySampleThatMakesSliversWhereTheBoundaryRunsStraight) {
-  const auto grid = [](double movedX) {
+  const auto grid = [](double movedX, double movedY = 0.0) {
     TriMesh mesh;
     std::vector<TriMesh::VertexHandle> v;
     for (int y = 0; y <= 3; ++y)
       for (int x = 0; x <= 4; ++x)
-        v.push_back(mesh.add_vertex({y == 0 && x == 1 ? movedX : x, static_cast<double>(y), 0.0}));
+        v.push_back(
+            mesh.add_vertex({y == 0 && x == 1 ? movedX : x, y == 0 && x == 1 ? movedY : y, 0.0}));
     for (int y = 0; y < 3; ++y)
       for (int x = 0; x < 4; ++x) {
         const auto at = [&](int dx, int dy) { return v[(y + dy) * 5 + x + dx]; };
@@ -120,6 +122,23 @@ TEST(BoundaryFlips, CollapsesABoundarySampleThatMakesSliversWhereTheBoundaryRuns
   TriMesh regular = grid(1.0);
   EXPECT_EQ(collapseBoundarySlivers(regular, 20.0, 30.0), 0);
   EXPECT_EQ(regular.n_vertices(), 20u);
+
+  // Pushed 0.1 out of the boundary, the vertex turns it by 48°, but the boundary without it stays
+  // within a quarter of its edges' mean length (a lip curled at a fraction of an edge length): it
+  // goes. Pushed 0.6 out, it is a corner of a notch, and stays.
+  TriMesh lip = grid(1.9, -0.1);
+  ASSERT_LT(smallestAngle(lip), 10.0);
+  EXPECT_EQ(collapseBoundarySlivers(lip, 20.0, 30.0), 1);
+  EXPECT_EQ(lip.n_vertices(), 19u);
+  for (const auto v : lip.vertices())
+    EXPECT_FALSE(lip.point(v)[0] == 1.9 && lip.point(v)[1] == -0.1) << "the lip's vertex stayed";
+  TriMesh notch = grid(1.9, -0.6);
+  ASSERT_LT(smallestAngle(notch), 10.0);
+  collapseBoundarySlivers(notch, 20.0, 30.0);
+  bool notchKept = false;
+  for (const auto v : notch.vertices())
+    notchKept = notchKept || (notch.point(v)[0] == 1.9 && notch.point(v)[1] == -0.6);
+  EXPECT_TRUE(notchKept);
 
   // N = 4: the sliver vertex stays while one of its triangles is marked fixed (half of a
   // square); marks elsewhere do not stop it, and they move along with the faces' renumbering.
