@@ -516,7 +516,7 @@ int slideBoundarySamples(const BoundaryIndex& index, std::vector<LoopSamples>& s
   return moves;
 }
 
-long long flipBoundarySlivers(TriMesh& mesh, double belowDegrees,
+long long flipBoundarySlivers(TriMesh& mesh, double belowDegrees, double aboveDegrees,
                               OpenMesh::FPropHandleT<bool> fixed) {
   constexpr int kPasses = 3;
   const auto point = [&](OpenMesh::VertexHandle v) { return toEigen(mesh.point(v)); };
@@ -533,7 +533,8 @@ long long flipBoundarySlivers(TriMesh& mesh, double belowDegrees,
       const auto a = h.from(), b = h.to(), c = h.next().to(), d = e.h1().next().to();
       if (!(a.is_boundary() || b.is_boundary() || c.is_boundary() || d.is_boundary())) continue;
       if (isFixed(h.face()) || isFixed(e.h1().face())) continue;
-      if (!flipRaisesSmallestAngle(point(a), point(b), point(c), point(d), belowDegrees) ||
+      if (!(flipRaisesSmallestAngle(point(a), point(b), point(c), point(d), belowDegrees) ||
+            flipLowersLargestAngle(point(a), point(b), point(c), point(d), aboveDegrees)) ||
           !mesh.is_flip_ok(e))
         continue;
       mesh.flip(e);

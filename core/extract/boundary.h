@@ -175,11 +175,12 @@ void alignFrontToLoop(const std::vector<double>& outerArc, std::vector<int>& fro
                       std::vector<double>& frontArc, double loopLength);
 
 /// Step 8 of extraction: flips the interior edges of triangles at the boundary of `mesh` whose
-/// smallest angle is below `belowDegrees`, when the flip raises the pair's smallest angle and
+/// smallest angle is below `belowDegrees`, when the flip raises the pair's smallest angle, or
+/// whose largest is above `aboveDegrees`, when the flip lowers it and not the smallest, and
 /// both new triangles face within 60° of the pair's area-weighted normal (up to 3 passes).
 /// Returns the number of flips. Faces marked by `fixed` (a face property of `mesh`; an invalid
 /// handle marks none) keep their vertices (N = 4: the halves of squares).
-long long flipBoundarySlivers(TriMesh& mesh, double belowDegrees,
+long long flipBoundarySlivers(TriMesh& mesh, double belowDegrees, double aboveDegrees = 180.0,
                               OpenMesh::FPropHandleT<bool> fixed = {});
 
 /// Step 8, before the flips: a boundary vertex of `mesh` whose boundary runs straight (its

@@ -31,6 +31,9 @@ void ExtractOptions::validate() const {
   if (!(sliverAngle >= 0.0 && sliverAngle < 60.0))
     throw Error(ErrorCode::InvalidOption,
                 "sliverAngle must be in [0, 60) degrees, got " + std::to_string(sliverAngle));
+  if (!(obtuseAngle > 60.0 && obtuseAngle <= 180.0))
+    throw Error(ErrorCode::InvalidOption,
+                "obtuseAngle must be in (60, 180] degrees, got " + std::to_string(obtuseAngle));
   if (!(creaseAngle >= 0.0 && creaseAngle <= 180.0))
     throw Error(ErrorCode::InvalidOption,
                 "creaseAngle must be in [0, 180] degrees, got " + std::to_string(creaseAngle));
@@ -76,7 +79,8 @@ void repairSliversBesideSquares(TriMesh& triangles, std::vector<int>& partner,
   }
   report.boundarySliverCollapses = collapseBoundarySlivers(
       triangles, options.sliverAngle, options.sharpBoundaryAngle, halfOfSquare);
-  report.boundarySliverFlips = flipBoundarySlivers(triangles, options.sliverAngle, halfOfSquare);
+  report.boundarySliverFlips =
+      flipBoundarySlivers(triangles, options.sliverAngle, options.obtuseAngle, halfOfSquare);
   partner.assign(triangles.n_faces(), kUnpaired);
   std::unordered_map<int, int> firstHalf;
   for (const auto f : triangles.faces()) {
@@ -171,7 +175,8 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     if (options.sliverAngle > 0.0 && !quads) {
       report.boundarySliverCollapses = collapseBoundarySlivers(
           result.triangles, options.sliverAngle, options.sharpBoundaryAngle);
-      report.boundarySliverFlips = flipBoundarySlivers(result.triangles, options.sliverAngle);
+      report.boundarySliverFlips =
+          flipBoundarySlivers(result.triangles, options.sliverAngle, options.obtuseAngle);
     }
   }
   if (quads) {

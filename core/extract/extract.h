@@ -49,8 +49,9 @@
 //    `sliverAngle` loses an edge by a collapse that raises the smallest angle around it (a
 //    boundary vertex moves only onto a boundary neighbour, where the boundary runs straight or
 //    stays within a quarter edge length without it; an interior vertex onto any neighbour),
-//    then gets the edge flip that raises its pair's smallest angle. Both move valences away
-//    from 6. The collapses remove the fans of slivers where the input boundary curls in a lip
+//    then gets the edge flip that raises its pair's smallest angle (or lowers its largest,
+//    above `obtuseAngle`: a reflex corner of the boundary in too few triangles). Both move valences
+//    away from 6. The collapses remove the fans of slivers where the input boundary curls in a lip
 //    narrower than an edge length (the Stanford bunny's base at K = V/16 and V/8: 3° and 6°
 //    before). For N = 4 both run after the quads' corners are mended, on the triangles that are
 //    no halves of squares.
@@ -91,6 +92,11 @@ struct ExtractOptions {
   /// floor) get the edge collapse and the edge flip that raise it, at the cost of valences. In
   /// [0, 60); 0 disables the step.
   double sliverAngle = 20.0;
+  /// Step 8: and a pair of triangles at the output boundary with an angle above this many
+  /// degrees gets the edge flip that lowers it without lowering the pair's smallest (a reflex
+  /// corner of the boundary split into two triangles only; the floor is 130°). In (60, 180];
+  /// 180 disables these flips.
+  double obtuseAngle = 120.0;
   /// Step 7's relaxation keeps the remesh close to the input's crease vertices: those with an
   /// edge whose dihedral angle is at least this many degrees. In [0, 180]; 0: none.
   double creaseAngle = kDefaultFeatureAngle;

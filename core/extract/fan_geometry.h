@@ -85,6 +85,26 @@ inline bool flipRaisesSmallestAngle(const Eigen::Vector3d& a, const Eigen::Vecto
          mean.dot(triangleNormal(flippedSecond)) > kMinNormalCosine;
 }
 
+/// Whether flipping the edge a–b of triangles (a, b, c) and (b, a, d) to c–d lowers the pair's
+/// largest angle, when that is above `aboveDegrees`, without lowering its smallest, and leaves
+/// both new triangles within 60° of the pair's area-weighted normal.
+inline bool flipLowersLargestAngle(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                   const Eigen::Vector3d& c, const Eigen::Vector3d& d,
+                                   double aboveDegrees) {
+  const std::array<Eigen::Vector3d, 3> first{a, b, c}, second{b, a, d}, flippedFirst{a, d, c},
+      flippedSecond{d, b, c};
+  const auto before = std::array{angleRange(first), angleRange(second)};
+  const double largest = std::max(before[0][1], before[1][1]);
+  if (!(largest > aboveDegrees)) return false;
+  const auto after = std::array{angleRange(flippedFirst), angleRange(flippedSecond)};
+  if (!(std::max(after[0][1], after[1][1]) < largest - 1e-9) ||
+      std::min(after[0][0], after[1][0]) < std::min(before[0][0], before[1][0]))
+    return false;
+  const Eigen::Vector3d mean = ((b - a).cross(c - a) + (a - b).cross(d - b)).normalized();
+  return mean.dot(triangleNormal(flippedFirst)) > kMinNormalCosine &&
+         mean.dot(triangleNormal(flippedSecond)) > kMinNormalCosine;
+}
+
 /// The corners of face f, with vertex `moved` (if valid) at `movedTo`.
 inline std::array<Eigen::Vector3d, 3> facePositions(const TriMesh& mesh,
                                                     OpenMesh::SmartFaceHandle f,

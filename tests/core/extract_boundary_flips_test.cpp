@@ -50,7 +50,7 @@ TEST(BoundaryFlips, FlipsTheLongDiagonalOfAThinRhombus) {
 }
 
 // Step 8 on a mesh: the rhombus's 15° slivers touch its boundary and are flipped below 20°; a
-// rhombus with 25° angles is not.
+// rhombus with 25° angles is not, unless its 130° angles are above the obtuse bound.
 TEST(BoundaryFlips, FlipBoundarySliversBelowTheFloorOnly) {
   const auto rhombusMesh = [](double halfWidth) {
     TriMesh mesh;
@@ -70,12 +70,16 @@ TEST(BoundaryFlips, FlipBoundarySliversBelowTheFloorOnly) {
   TriMesh wide = rhombusMesh(0.4663);  // tan 25°
   EXPECT_EQ(flipBoundarySlivers(wide, 20.0), 0);
   EXPECT_NEAR(smallestAngle(wide), 25.0, 0.01);
+  // Its two 130° angles are flipped away above 120° (not above 135°): 50° and 65° after.
+  EXPECT_EQ(flipBoundarySlivers(wide, 20.0, 135.0), 0);
+  EXPECT_EQ(flipBoundarySlivers(wide, 20.0, 120.0), 1);
+  EXPECT_NEAR(smallestAngle(wide), 50.0, 0.01);
   // N = 4: a triangle marked fixed (half of a square) keeps its vertices.
   TriMesh halfOfSquare = rhombusMesh(0.2679);
   OpenMesh::FPropHandleT<bool> fixed;
   halfOfSquare.add_property(fixed);
   for (const auto f : halfOfSquare.faces()) halfOfSquare.property(fixed, f) = f.idx() == 1;
-  EXPECT_EQ(flipBoundarySlivers(halfOfSquare, 20.0, fixed), 0);
+  EXPECT_EQ(flipBoundarySlivers(halfOfSquare, 20.0, 180.0, fixed), 0);
   EXPECT_NEAR(smallestAngle(halfOfSquare), 15.0, 0.01);
 }
 
