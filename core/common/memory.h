@@ -25,6 +25,14 @@ inline double peakMemoryMiB() {
   return 0.0;
 }
 
+/// Resets the peak resident set size (VmHWM) to the current one (Linux: /proc/self/clear_refs),
+/// so that a later peakMemoryMiB measures from here; false where unavailable. The peak is the
+/// whole process's: a program that runs one job at a time (a benchmark) gets each job's.
+inline bool resetPeakMemory() {
+  std::ofstream clear("/proc/self/clear_refs");
+  return static_cast<bool>(clear << "5" << std::flush);
+}
+
 /// Keeps freed memory in the process for the next allocations instead of handing it back to the
 /// kernel at once (glibc: every block from the heap, none mapped on its own, no automatic trim).
 /// The solves free and allocate factors and workspaces of hundreds of MB; each page the kernel
