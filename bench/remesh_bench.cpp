@@ -11,7 +11,8 @@
 // 3000. --rosy 4 remeshes into quads (the angles are then the quads' corners, the irregular
 // vertices those of valence other than 4). The "repair s" column includes the refinement before
 // the field. The peak memory is the process's over a row's runs (VmHWM reset before each row,
-// after the previous rows' freed memory went back to the kernel), the loaded inputs included.
+// after the previous rows' freed memory went back to the kernel): it includes the loaded inputs
+// and what the libraries keep (a small mesh after the large ones: about 200 MiB).
 // Never asserts on time.
 
 #include <algorithm>
