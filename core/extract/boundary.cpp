@@ -619,4 +619,12 @@ long long collapseBoundarySlivers(TriMesh& mesh, double belowDegrees, double str
   return collapses;
 }
 
+SliverRepairs repairBoundarySlivers(TriMesh& mesh, double sliverDegrees, double obtuseDegrees,
+                                    double straightWithin, OpenMesh::FPropHandleT<bool> fixed) {
+  SliverRepairs done;
+  done.collapses = collapseBoundarySlivers(mesh, sliverDegrees, straightWithin, fixed);
+  done.flips = flipBoundarySlivers(mesh, sliverDegrees, obtuseDegrees, fixed);
+  return done;
+}
+
 }  // namespace hexcover::extract_detail

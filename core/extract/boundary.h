@@ -196,6 +196,17 @@ long long flipBoundarySlivers(TriMesh& mesh, double belowDegrees, double aboveDe
 long long collapseBoundarySlivers(TriMesh& mesh, double belowDegrees, double straightWithin,
                                   OpenMesh::FPropHandleT<bool> fixed = {});
 
+/// What step 8 did (repairBoundarySlivers).
+struct SliverRepairs {
+  long long collapses = 0;
+  long long flips = 0;
+};
+
+/// Step 8 of extraction: collapseBoundarySlivers, then flipBoundarySlivers, with the same
+/// `fixed` faces.
+SliverRepairs repairBoundarySlivers(TriMesh& mesh, double sliverDegrees, double obtuseDegrees,
+                                    double straightWithin, OpenMesh::FPropHandleT<bool> fixed = {});
+
 /// Closes a hole bounded by `loop` (a boundary loop of the triangles, triangles on its left):
 /// one triangle for 3 vertices, the shorter diagonal for 4, else a fan around a new vertex at the
 /// loop's centroid (appended to `positions`). Appends the triangles to `out`; returns how many.

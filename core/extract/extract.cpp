@@ -1,9 +1,7 @@
 #include "core/extract/extract.h"
 
-#include <algorithm>
 #include <optional>
 #include <string>
-#include <unordered_map>
 
 #include "core/common/error.h"
 #include "core/extract/assembly.h"
@@ -62,41 +60,6 @@ std::vector<int> faceComponents(const TriMesh& mesh, int& count) {
     ++count;
   }
   return component;
-}
-
-/// Step 8 for N = 4: the sliver repairs on the triangles that are no half of a square (boundary
-/// strips, hole fills); `partner` (squarePartners) follows the collapses' renumbering of faces.
-void repairSliversBesideSquares(TriMesh& triangles, std::vector<int>& partner,
-                                const ExtractOptions& options, ExtractionReport& report) {
-  OpenMesh::FPropHandleT<bool> halfOfSquare;
-  OpenMesh::FPropHandleT<int> square;  // the lower face index of the square, or partner's code
-  triangles.add_property(halfOfSquare);
-  triangles.add_property(square);
-  for (const auto f : triangles.faces()) {
-    const int other = partner[f.idx()];
-    triangles.property(halfOfSquare, f) = other >= 0;
-    triangles.property(square, f) = other >= 0 ? std::min(f.idx(), other) : other;
-  }
-  report.boundarySliverCollapses = collapseBoundarySlivers(
-      triangles, options.sliverAngle, options.sharpBoundaryAngle, halfOfSquare);
-  report.boundarySliverFlips =
-      flipBoundarySlivers(triangles, options.sliverAngle, options.obtuseAngle, halfOfSquare);
-  partner.assign(triangles.n_faces(), kUnpaired);
-  std::unordered_map<int, int> firstHalf;
-  for (const auto f : triangles.faces()) {
-    const int id = triangles.property(square, f);
-    if (id < 0) {
-      partner[f.idx()] = id;
-      continue;
-    }
-    const auto [seen, first] = firstHalf.emplace(id, f.idx());
-    if (!first) {
-      partner[f.idx()] = seen->second;
-      partner[seen->second] = f.idx();
-    }
-  }
-  triangles.remove_property(halfOfSquare);
-  triangles.remove_property(square);
 }
 
 }  // namespace
@@ -171,12 +134,12 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
       report.balancedVertices = counts.balanced;
       report.outlierAngleMoves = counts.outliers;
     }
-    // N = 4: after the quads' corners are mended, beside the squares (repairSliversBesideSquares).
+    // N = 4: after the quads' corners are mended (repairSliversBesideSquares).
     if (options.sliverAngle > 0.0 && !quads) {
-      report.boundarySliverCollapses = collapseBoundarySlivers(
-          result.triangles, options.sliverAngle, options.sharpBoundaryAngle);
-      report.boundarySliverFlips =
-          flipBoundarySlivers(result.triangles, options.sliverAngle, options.obtuseAngle);
+      const SliverRepairs done = repairBoundarySlivers(
+          result.triangles, options.sliverAngle, options.obtuseAngle, options.sharpBoundaryAngle);
+      report.boundarySliverCollapses = done.collapses;
+      report.boundarySliverFlips = done.flips;
     }
   }
   if (quads) {
@@ -185,8 +148,13 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
       report.restoredVertices = restoreQuadCorners(result.quads, result.triangles, unfitted);
       report.centredVertices = centreIrregularVertices(result.quads, result.triangles, *inputQuery);
     }
-    if (options.sliverAngle > 0.0 && !onlyCopies)
-      repairSliversBesideSquares(result.triangles, partner, options, report);
+    if (options.sliverAngle > 0.0 && !onlyCopies) {
+      const SliverRepairs done =
+          repairSliversBesideSquares(result.triangles, partner, options.sliverAngle,
+                                     options.obtuseAngle, options.sharpBoundaryAngle);
+      report.boundarySliverCollapses = done.collapses;
+      report.boundarySliverFlips = done.flips;
+    }
     // Pairs that the fit and the repairs made square enough.
     report.mergedTrianglePairs += pairTriangles(result.triangles, partner);
     result.quads = pairSquares(result.triangles, partner);

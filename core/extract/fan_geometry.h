@@ -68,41 +68,41 @@ inline Eigen::Vector3d triangleNormal(const std::array<Eigen::Vector3d, 3>& p) {
   return (p[1] - p[0]).cross(p[2] - p[0]).normalized();
 }
 
+/// Whether both triangles of the edge a–b of (a, b, c) and (b, a, d) flipped to c–d, (a, d, c)
+/// and (d, b, c), face within 60° of the pair's area-weighted normal (a sliver's own normal is
+/// noise).
+inline bool flippedPairFacesAlike(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                  const Eigen::Vector3d& c, const Eigen::Vector3d& d) {
+  const Eigen::Vector3d mean = ((b - a).cross(c - a) + (a - b).cross(d - b)).normalized();
+  return mean.dot(triangleNormal({a, d, c})) > kMinNormalCosine &&
+         mean.dot(triangleNormal({d, b, c})) > kMinNormalCosine;
+}
+
 /// Whether flipping the edge a–b of triangles (a, b, c) and (b, a, d) to c–d raises the pair's
-/// smallest angle, when that is below `belowDegrees`, and leaves both new triangles, (a, d, c)
-/// and (d, b, c), within 60° of the pair's area-weighted normal (a sliver's own normal is noise).
+/// smallest angle, when that is below `belowDegrees`, and the new triangles face alike
+/// (flippedPairFacesAlike).
 inline bool flipRaisesSmallestAngle(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                                     const Eigen::Vector3d& c, const Eigen::Vector3d& d,
                                     double belowDegrees = 180.0) {
-  const std::array<Eigen::Vector3d, 3> first{a, b, c}, second{b, a, d}, flippedFirst{a, d, c},
-      flippedSecond{d, b, c};
-  const double before = std::min(angleRange(first)[0], angleRange(second)[0]);
+  const double before = std::min(angleRange({a, b, c})[0], angleRange({b, a, d})[0]);
   if (!(before < belowDegrees)) return false;
-  const double after = std::min(angleRange(flippedFirst)[0], angleRange(flippedSecond)[0]);
-  if (!(after > before + 1e-9)) return false;
-  const Eigen::Vector3d mean = ((b - a).cross(c - a) + (a - b).cross(d - b)).normalized();
-  return mean.dot(triangleNormal(flippedFirst)) > kMinNormalCosine &&
-         mean.dot(triangleNormal(flippedSecond)) > kMinNormalCosine;
+  const double after = std::min(angleRange({a, d, c})[0], angleRange({d, b, c})[0]);
+  return after > before + 1e-9 && flippedPairFacesAlike(a, b, c, d);
 }
 
 /// Whether flipping the edge a–b of triangles (a, b, c) and (b, a, d) to c–d lowers the pair's
-/// largest angle, when that is above `aboveDegrees`, without lowering its smallest, and leaves
-/// both new triangles within 60° of the pair's area-weighted normal.
+/// largest angle, when that is above `aboveDegrees`, without lowering its smallest, and the new
+/// triangles face alike (flippedPairFacesAlike).
 inline bool flipLowersLargestAngle(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                                    const Eigen::Vector3d& c, const Eigen::Vector3d& d,
                                    double aboveDegrees) {
-  const std::array<Eigen::Vector3d, 3> first{a, b, c}, second{b, a, d}, flippedFirst{a, d, c},
-      flippedSecond{d, b, c};
-  const auto before = std::array{angleRange(first), angleRange(second)};
+  const auto before = std::array{angleRange({a, b, c}), angleRange({b, a, d})};
   const double largest = std::max(before[0][1], before[1][1]);
   if (!(largest > aboveDegrees)) return false;
-  const auto after = std::array{angleRange(flippedFirst), angleRange(flippedSecond)};
-  if (!(std::max(after[0][1], after[1][1]) < largest - 1e-9) ||
-      std::min(after[0][0], after[1][0]) < std::min(before[0][0], before[1][0]))
-    return false;
-  const Eigen::Vector3d mean = ((b - a).cross(c - a) + (a - b).cross(d - b)).normalized();
-  return mean.dot(triangleNormal(flippedFirst)) > kMinNormalCosine &&
-         mean.dot(triangleNormal(flippedSecond)) > kMinNormalCosine;
+  const auto after = std::array{angleRange({a, d, c}), angleRange({d, b, c})};
+  return std::max(after[0][1], after[1][1]) < largest - 1e-9 &&
+         std::min(after[0][0], after[1][0]) >= std::min(before[0][0], before[1][0]) &&
+         flippedPairFacesAlike(a, b, c, d);
 }
 
 /// The corners of face f, with vertex `moved` (if valid) at `movedTo`.

@@ -224,4 +224,38 @@ long long centreIrregularVertices(PolygonSoup& quads, TriMesh& triangles,
   return moves;
 }
 
+SliverRepairs repairSliversBesideSquares(TriMesh& triangles, std::vector<int>& partner,
+                                         double sliverDegrees, double obtuseDegrees,
+                                         double straightWithin) {
+  // The repairs renumber the faces: each face carries its square (its lower face index) or its
+  // partner code through them.
+  OpenMesh::FPropHandleT<bool> halfOfSquare;
+  OpenMesh::FPropHandleT<int> square;
+  triangles.add_property(halfOfSquare);
+  triangles.add_property(square);
+  for (const auto f : triangles.faces()) {
+    const int other = partner[f.idx()];
+    triangles.property(halfOfSquare, f) = other >= 0;
+    triangles.property(square, f) = other >= 0 ? std::min(f.idx(), other) : other;
+  }
+  const SliverRepairs done =
+      repairBoundarySlivers(triangles, sliverDegrees, obtuseDegrees, straightWithin, halfOfSquare);
+  std::vector<int> firstHalf(partner.size(), -1);  // per square: its first face seen
+  partner.assign(triangles.n_faces(), kUnpaired);
+  for (const auto f : triangles.faces()) {
+    const int id = triangles.property(square, f);
+    if (id < 0) {
+      partner[f.idx()] = id;
+    } else if (firstHalf[id] < 0) {
+      firstHalf[id] = f.idx();
+    } else {
+      partner[f.idx()] = firstHalf[id];
+      partner[firstHalf[id]] = f.idx();
+    }
+  }
+  triangles.remove_property(halfOfSquare);
+  triangles.remove_property(square);
+  return done;
+}
+
 }  // namespace hexcover::extract_detail

@@ -8,6 +8,7 @@
 #include <array>
 #include <vector>
 
+#include "core/extract/boundary.h"
 #include "core/geometry/closest_point.h"
 #include "core/mesh/mesh.h"
 
@@ -53,5 +54,12 @@ long long restoreQuadCorners(PolygonSoup& quads, TriMesh& triangles,
 /// `triangles` moves along. Returns the number of moves.
 long long centreIrregularVertices(PolygonSoup& quads, TriMesh& triangles,
                                   const ClosestPointQuery& input);
+
+/// Step 8 for N = 4 (repairBoundarySlivers) on the triangles of `triangles` that are no half of a
+/// square (`partner`: squarePartners; boundary strips, hole fills): the squares' halves keep
+/// their vertices, and `partner` follows the collapses' renumbering of the faces.
+SliverRepairs repairSliversBesideSquares(TriMesh& triangles, std::vector<int>& partner,
+                                         double sliverDegrees, double obtuseDegrees,
+                                         double straightWithin);
 
 }  // namespace hexcover::extract_detail

@@ -4,9 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <map>
+#include <set>
 #include <utility>
 #include <vector>
 
@@ -207,6 +209,37 @@ std::vector<int> gridPartners(const TriMesh& triangles) {
   std::vector<int> partner(triangles.n_faces());
   for (std::size_t f = 0; f < partner.size(); ++f) partner[f] = static_cast<int>(f ^ 1);
   return partner;
+}
+
+// Step 8 for quads: in a 4 × 4 grid whose bottom boundary vertex (1, 0) sits at (1.9, 0), the
+// unpaired triangles of the first two squares around it are slivers; the vertex is collapsed,
+// which renumbers the faces, and every other square's two triangles are still partners.
+TEST(QuadMesh, SliverRepairsBesideSquaresKeepEverySquarePaired) {
+  TriMesh triangles = squareGrid(4).second;
+  triangles.set_point(TriMesh::VertexHandle(1), OpenMesh::Vec3d(1.9, 0.0, 0.0));
+  std::vector<int> partner = gridPartners(triangles);
+  for (int f = 0; f < 4; ++f) partner[f] = extract_detail::kUnpaired;
+  const auto done =
+      extract_detail::repairSliversBesideSquares(triangles, partner, 20.0, 120.0, 30.0);
+  EXPECT_EQ(done.collapses, 1);
+  ASSERT_EQ(partner.size(), triangles.n_faces());
+  int paired = 0;
+  for (const auto f : triangles.faces()) {
+    const int other = partner[f.idx()];
+    if (other < 0) continue;
+    ++paired;
+    ASSERT_EQ(partner[other], f.idx());
+    // The pair's corners span one unit square of the grid.
+    std::set<std::pair<double, double>> corners;
+    for (const auto face : {f, OpenMesh::make_smart(TriMesh::FaceHandle(other), triangles)})
+      for (const auto v : face.vertices())
+        corners.emplace(triangles.point(v)[0], triangles.point(v)[1]);
+    ASSERT_EQ(corners.size(), 4u) << "faces " << f.idx() << " and " << other;
+    const auto [low, high] = std::minmax_element(corners.begin(), corners.end());
+    EXPECT_EQ(high->first - low->first, 1.0);
+    EXPECT_EQ(high->second - low->second, 1.0);
+  }
+  EXPECT_EQ(paired, 2 * 14);
 }
 
 TEST(QuadMesh, FitRelaxesTheCornersOfAJitteredSquareGridTowardsRightAngles) {
