@@ -10,7 +10,6 @@
 #include <cstdlib>
 #include <ctime>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <string>
 #include <vector>
@@ -22,10 +21,6 @@
 namespace {
 
 constexpr int kRuns = 5;
-
-/// Resets the process's peak resident set size (Linux: "5" to /proc/self/clear_refs), so that
-/// the peak reported after a mesh is that mesh's own; elsewhere the peak stays cumulative.
-void resetPeakMemory() { std::ofstream("/proc/self/clear_refs") << "5"; }
 
 /// CPU time of the process: on a machine shared with other jobs, wall time overstates the cost.
 double cpuSeconds() {
@@ -78,7 +73,7 @@ int main(int argc, char** argv) {
 
   std::vector<Row> rows;
   for (const auto& file : files) {
-    resetPeakMemory();
+    hexcover::resetPeakMemory();  // the peak reported after a mesh is that mesh's own
     const hexcover::TriMesh mesh = hexcover::loadMesh(file);
     std::vector<double> total, cpu;
     std::map<std::string, std::vector<double>> steps;

@@ -181,7 +181,7 @@ void alignFrontToLoop(const std::vector<double>& outerArc, std::vector<int>& fro
 /// Returns the number of flips. Faces marked by `fixed` (a face property of `mesh`; an invalid
 /// handle marks none) keep their vertices (N = 4: the halves of squares).
 long long flipBoundarySlivers(TriMesh& mesh, double belowDegrees, double aboveDegrees = 180.0,
-                              OpenMesh::FPropHandleT<bool> fixed = {});
+                              OpenMesh::FPropHandleT<bool> fixed = OpenMesh::FPropHandleT<bool>());
 
 /// Step 8, before the flips: a boundary vertex of `mesh` whose boundary runs straight (its
 /// triangles' angles sum to 180° ± `straightWithin`, so not a corner), or curls so little that
@@ -193,8 +193,9 @@ long long flipBoundarySlivers(TriMesh& mesh, double belowDegrees, double aboveDe
 /// almost in line with it; fewer samples make fewer slivers. A vertex of a face marked by `fixed`
 /// (as in flipBoundarySlivers) stays. Returns the number of collapses; garbage-collects `mesh`
 /// after any (its properties move along).
-long long collapseBoundarySlivers(TriMesh& mesh, double belowDegrees, double straightWithin,
-                                  OpenMesh::FPropHandleT<bool> fixed = {});
+long long collapseBoundarySlivers(
+    TriMesh& mesh, double belowDegrees, double straightWithin,
+    OpenMesh::FPropHandleT<bool> fixed = OpenMesh::FPropHandleT<bool>());
 
 /// What step 8 did (repairBoundarySlivers).
 struct SliverRepairs {
@@ -204,8 +205,9 @@ struct SliverRepairs {
 
 /// Step 8 of extraction: collapseBoundarySlivers, then flipBoundarySlivers, with the same
 /// `fixed` faces.
-SliverRepairs repairBoundarySlivers(TriMesh& mesh, double sliverDegrees, double obtuseDegrees,
-                                    double straightWithin, OpenMesh::FPropHandleT<bool> fixed = {});
+SliverRepairs repairBoundarySlivers(
+    TriMesh& mesh, double sliverDegrees, double obtuseDegrees, double straightWithin,
+    OpenMesh::FPropHandleT<bool> fixed = OpenMesh::FPropHandleT<bool>());
 
 /// Closes a hole bounded by `loop` (a boundary loop of the triangles, triangles on its left):
 /// one triangle for 3 vertices, the shorter diagonal for 4, else a fan around a new vertex at the

@@ -79,6 +79,16 @@ struct ClosestPointQuery::Impl {
   /// Float rounding of the BVH: the search radius is kept this much larger than the best exact
   /// distance so that no closer triangle is culled.
   double slack = 0.0;
+  /// Per triangle: unit normal, zero for a sliver (sine of its corner at the first vertex below
+  /// kSliverSine: the normal's direction would be off by up to 1e-16 / kSliverSine). The
+  /// distance to a triangle's plane is a lower bound of the distance to the triangle, and the
+  /// cheaper test.
+  std::vector<Vec3> unitNormal;
+  static constexpr double kSliverSine = 1e-5;
+  /// The rounding of the plane distance and of the exact distance stays below
+  /// kRoundingMargin · (distance + 4 · extent): |p − a| ≤ best + the triangle's diameter.
+  static constexpr double kRoundingMargin = 1e-9;
+  double extent = 0.0;  ///< largest |coordinate − origin| of the mesh's vertices
 
   explicit Impl(const TriMesh& target) : mesh(target) {
     if (mesh.triangles.empty())
@@ -90,11 +100,20 @@ struct ClosestPointQuery::Impl {
         high = high.cwiseMax(mesh.positions[v]);
       }
     origin = 0.5 * (low + high);
-    double extent = 0.0;
     for (std::size_t v = 0; v < mesh.positions.size(); ++v)
       if (mesh.referenced[v])
         extent = std::max(extent, (mesh.positions[v] - origin).cwiseAbs().maxCoeff());
     slack = 16.0 * std::numeric_limits<float>::epsilon() * std::max(extent, 1e-30);
+    unitNormal.reserve(mesh.triangles.size());
+    for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+      const int face = static_cast<int>(f);
+      const Vec3 u = mesh.corner(face, 1) - mesh.corner(face, 0);
+      const Vec3 w = mesh.corner(face, 2) - mesh.corner(face, 0);
+      const Vec3 normal = u.cross(w);
+      const double length = normal.norm();
+      unitNormal.push_back(length > kSliverSine * u.norm() * w.norm() ? Vec3(normal / length)
+                                                                      : Vec3::Zero());
+    }
 
     device = rtcNewDevice("verbose=0");
     if (!device) throw Error(ErrorCode::NumericalFailure, "Embree: cannot create a device");
@@ -153,7 +172,14 @@ struct ClosestPointQuery::Impl {
     auto& search = *static_cast<Search*>(args->userPtr);
     const int f = static_cast<int>(args->primID);
     ++search.visited;
-    const double d = search.self->distanceToFace(search.p, f);
+    // A triangle whose plane is farther than the best distance (beyond rounding) cannot win, not
+    // even a tie: the exact distance is skipped.
+    const Impl& self = *search.self;
+    const double planeDistance =
+        std::abs(self.unitNormal[f].dot(search.p - self.mesh.corner(f, 0)));
+    if (planeDistance > search.best + kRoundingMargin * (search.best + 4.0 * self.extent))
+      return false;
+    const double d = self.distanceToFace(search.p, f);
     if (d < search.best || (d == search.best && f < search.bestFace)) {
       search.best = d;
       search.bestFace = f;

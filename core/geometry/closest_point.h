@@ -1,6 +1,7 @@
 #pragma once
 // Exact closest points on a triangle mesh: point-to-triangle distances (Voronoi regions of a
-// triangle's vertices, edges and interior) over an Embree 3 bounding-volume hierarchy. Used by
+// triangle's vertices, edges and interior) over an Embree 3 bounding-volume hierarchy; a
+// triangle whose plane is farther than the best distance so far is skipped. Used by
 // the metrics (surface distances) and by extraction (fitting the remesh to the input surface).
 
 #include <Eigen/Core>

@@ -158,6 +158,39 @@ TEST(MetricsDistance, ClosestPointMatchesBruteForce) {
   }
 }
 
+// Above a vertex of a flat grid its six triangles are exactly as close: the lowest face index
+// wins, whatever the hint; above a box's corner, the three faces' planes are as far as the
+// corner, and so the planes cannot cull the right one.
+TEST(MetricsDistance, ClosestPointTiesGoToTheLowestFaceIndex) {
+  const TriMesh grid = makeEquilateralGrid(6, 6);
+  const ClosestPointQuery query(grid);
+  for (const auto vh : grid.vertices()) {
+    if (grid.is_boundary(vh)) continue;
+    int lowest = std::numeric_limits<int>::max();
+    for (const auto fh : vh.faces()) lowest = std::min(lowest, fh.idx());
+    const Eigen::Vector3d p = toEigen(grid.point(vh)) + Eigen::Vector3d(0.0, 0.0, 0.3);
+    for (const auto hint : vh.faces()) {
+      const auto result = query.closest(p, hint.idx());
+      EXPECT_EQ(result.face, lowest) << "vertex " << vh.idx() << " hint " << hint.idx();
+      EXPECT_EQ(result.distance, 0.3);
+    }
+  }
+  const TriMesh box = makeBox(1.0, 1.0, 1.0, 3);
+  const ClosestPointQuery toBox(box);
+  for (const auto vh : box.vertices()) {
+    const Eigen::Vector3d corner = toEigen(box.point(vh));
+    if (corner.cwiseAbs().minCoeff() < 0.49) continue;  // not a corner of [-0.5, 0.5]³
+    const Eigen::Vector3d p = 1.2 * corner;             // outside, nearest to the corner
+    double brute = std::numeric_limits<double>::infinity();
+    int face = -1;
+    for (const auto fh : box.faces())
+      if (const double d = toBox.distanceToFace(p, fh.idx()); d < brute) brute = d, face = fh.idx();
+    const auto result = toBox.closest(p);
+    EXPECT_EQ(result.distance, brute);
+    EXPECT_EQ(result.face, face);
+  }
+}
+
 // A georeferenced scan lies ~10^6 units from the origin, where float coordinates (the BVH's) round
 // by 0.25 units: the BVH works relative to the mesh's centre, so a query stays local there
 // (relative to the origin, every query would visit all 5120 triangles; here as many as at the
