@@ -55,8 +55,11 @@ RunContext jobProgress(const RunContext& job) {
 
 nlohmann::json singularitiesJson(const std::vector<Singularity>& singularities, int n) {
   std::map<std::string, int> byIndex;
-  for (const auto& s : singularities)
-    byIndex[(s.index > 0 ? "+" : "") + std::to_string(s.index) + "/" + std::to_string(n)] += 1;
+  for (const auto& s : singularities) {
+    std::string index = s.index > 0 ? "+" : "";  // "+1/6", "-1/6"
+    index += std::to_string(s.index) + "/" + std::to_string(n);
+    byIndex[index] += 1;
+  }
   return {{"count", singularities.size()}, {"by_index", byIndex}};
 }
 
