@@ -154,9 +154,11 @@ struct ClosestPointQuery::Impl {
     device = nullptr;
   }
 
+  Vec3 closestPointOnFace(const Vec3& p, int f) const {
+    return closestPointOnTriangle(p, mesh.corner(f, 0), mesh.corner(f, 1), mesh.corner(f, 2));
+  }
   double distanceToFace(const Vec3& p, int f) const {
-    return (closestPointOnTriangle(p, mesh.corner(f, 0), mesh.corner(f, 1), mesh.corner(f, 2)) - p)
-        .norm();
+    return (closestPointOnFace(p, f) - p).norm();
   }
 
   /// State of one query, passed to the Embree callback through userPtr.
@@ -165,6 +167,7 @@ struct ClosestPointQuery::Impl {
     Vec3 p;
     double best;
     int bestFace;
+    Vec3 bestPoint = Vec3::Zero();
     int visited = 0;
   };
 
@@ -179,10 +182,12 @@ struct ClosestPointQuery::Impl {
         std::abs(self.unitNormal[f].dot(search.p - self.mesh.corner(f, 0)));
     if (planeDistance > search.best + kRoundingMargin * (search.best + 4.0 * self.extent))
       return false;
-    const double d = self.distanceToFace(search.p, f);
+    const Vec3 point = self.closestPointOnFace(search.p, f);
+    const double d = (point - search.p).norm();
     if (d < search.best || (d == search.best && f < search.bestFace)) {
       search.best = d;
       search.bestFace = f;
+      search.bestPoint = point;
     }
     const float radius = static_cast<float>(search.best + search.self->slack);
     if (radius < args->query->radius) {
@@ -195,7 +200,8 @@ struct ClosestPointQuery::Impl {
   Result closest(const Vec3& p, int hintFace) const {
     Search search{this, p, std::numeric_limits<double>::infinity(), -1};
     if (hintFace >= 0) {
-      search.best = distanceToFace(p, hintFace);
+      search.bestPoint = closestPointOnFace(p, hintFace);
+      search.best = (search.bestPoint - p).norm();
       search.bestFace = hintFace;
     }
     RTCPointQuery query;
@@ -209,10 +215,7 @@ struct ClosestPointQuery::Impl {
     RTCPointQueryContext context;
     rtcInitPointQueryContext(&context);
     rtcPointQuery(scene, &query, &context, &Impl::visitTriangle, &search);
-    const int f = search.bestFace;
-    return {search.best, f,
-            closestPointOnTriangle(p, mesh.corner(f, 0), mesh.corner(f, 1), mesh.corner(f, 2)),
-            search.visited};
+    return {search.best, search.bestFace, search.bestPoint, search.visited};
   }
 };
 
