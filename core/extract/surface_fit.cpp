@@ -756,11 +756,13 @@ class SurfaceFit {
     // input face whose centroid is assigned to the fan (the result does not depend on it).
     const auto self = inputQuery_.closest(p, assignedInputFace(v));
     deviation = std::max(deviation, self.distance);
-    // A sample no farther from the input face nearest the previous sample than the largest
-    // distance so far cannot raise it: the exact search runs only for the others.
+    // A sample no farther from the input face nearest the previous sample, or from the one
+    // nearest p, than the largest distance so far cannot raise it: the exact search runs only
+    // for the others.
     int near = self.face;
     const auto raiseBy = [&](const Vec3& q) {
       if (inputQuery_.distanceToFace(q, near) <= deviation) return;
+      if (near != self.face && inputQuery_.distanceToFace(q, self.face) <= deviation) return;
       const auto closest = inputQuery_.closest(q, near);
       near = closest.face;
       deviation = std::max(deviation, closest.distance);
