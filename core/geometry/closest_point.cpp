@@ -189,7 +189,7 @@ struct ClosestPointQuery::Impl {
       search.bestFace = f;
       search.bestPoint = point;
     }
-    const float radius = static_cast<float>(search.best + search.self->slack);
+    const float radius = static_cast<float>(search.best + self.slack);
     if (radius < args->query->radius) {
       args->query->radius = radius;
       return true;

@@ -158,9 +158,10 @@ TEST(MetricsDistance, ClosestPointMatchesBruteForce) {
   }
 }
 
-// Above a vertex of a flat grid its six triangles are exactly as close: the lowest face index
-// wins, whatever the hint; above a box's corner, the three faces' planes are as far as the
-// corner, and so the planes cannot cull the right one.
+// Above a vertex of a flat grid its six triangles are exactly as close, and so are their planes
+// (a plane test that culled ties would keep the hint): the lowest face index wins, whatever the
+// hint. Outside a box's corner, the triangles around it tie at the corner across three planes:
+// the result is brute force's lowest index.
 TEST(MetricsDistance, ClosestPointTiesGoToTheLowestFaceIndex) {
   const TriMesh grid = makeEquilateralGrid(6, 6);
   const ClosestPointQuery query(grid);
