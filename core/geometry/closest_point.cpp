@@ -231,4 +231,6 @@ double ClosestPointQuery::distanceToFace(const Vec3& p, int face) const {
   return impl_->distanceToFace(p, face);
 }
 
+const TriangleArrays& ClosestPointQuery::triangles() const { return impl_->mesh; }
+
 }  // namespace hexcover

@@ -54,6 +54,9 @@ class ClosestPointQuery {
   /// Distance from `p` to face `face` of the target mesh.
   double distanceToFace(const Eigen::Vector3d& p, int face) const;
 
+  /// The target mesh's triangles, indexed as `Result::face`.
+  const TriangleArrays& triangles() const;
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;

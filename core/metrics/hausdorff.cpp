@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -42,6 +43,7 @@ struct Cell {
   int centroid;
   double area;
   double bound = 0.0;
+  bool tight = false;  ///< `bound` is the split bound (`tightBound`)
 };
 
 /// Samples of the surface `from` with their exact distance to `to`, and the cell partition.
@@ -77,6 +79,15 @@ class SurfaceSampler {
   void refine(double maxCellArea, double absoluteTolerance) {
     for (;;) {
       const double threshold = largest() * (1.0 + options_.relativeTolerance) + absoluteTolerance;
+      std::vector<int> loose;
+      for (std::size_t i = 0; i < cells_.size(); ++i)
+        if (!cells_[i].tight && cells_[i].bound > threshold && cells_[i].area <= maxCellArea)
+          loose.push_back(static_cast<int>(i));
+      parallelFor(loose.size(), options_.threads, [&](std::size_t k) {
+        Cell& cell = cells_[loose[k]];
+        cell.bound = tightBound(cell);
+        cell.tight = true;
+      });
       std::vector<int> selected;
       for (std::size_t i = 0; i < cells_.size(); ++i)
         if (cells_[i].area > maxCellArea || cells_[i].bound > threshold)
@@ -156,23 +167,144 @@ class SurfaceSampler {
 
   double largest() const { return largest_; }
 
-  /// U = min over the closest triangles T of the cell's samples of max_i d(corner_i, T):
-  /// d(·, T) is convex, so its maximum over the cell is at a corner.
+  /// Upper bound U of d_B over a cell, from the closest triangles C of its corners and
+  /// centroid: for a fixed triangle T, d(·, T) is convex, so its maximum over a convex piece of
+  /// the cell is at one of the piece's corners. This is min over T ∈ C of max_i d(corner_i, T).
   double bound(const Cell& cell) const {
-    const std::array<int, 4> candidates{face_[cell.corners[0]], face_[cell.corners[1]],
-                                        face_[cell.corners[2]], face_[cell.centroid]};
+    const Candidates candidates = closestTriangles(cell);
+    const Piece piece = whole(cell);
     double best = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < 4; ++k) {
-      const int t = candidates[k];
-      if (std::find(candidates.begin(), candidates.begin() + k, t) != candidates.begin() + k)
-        continue;
-      double worst = 0.0;
-      for (const int c : cell.corners) {
-        worst = std::max(worst, face_[c] == t ? distance_[c] : to_.distanceToFace(points_[c], t));
-        if (worst >= best) break;
-      }
-      best = std::min(best, worst);
+    for (int k = 0; k < candidates.count; ++k)
+      best = std::min(best, pieceBound(piece, candidates.faces[k], best));
+    return best;
+  }
+
+  /// The cell's bound lowered by cutting it into pieces with planes that separate the triangles
+  /// of C (`splitBound`). Costlier, so computed only for cells that refinement would split.
+  double tightBound(const Cell& cell) const {
+    const Candidates candidates = closestTriangles(cell);
+    return candidates.count > 1 ? splitBound(whole(cell), candidates, cell.bound) : cell.bound;
+  }
+
+  /// Closest triangles of a cell's samples (at most 4, distinct).
+  struct Candidates {
+    std::array<int, 4> faces{};
+    int count = 0;
+
+    Candidates without(int k) const {
+      Candidates rest;
+      for (int i = 0; i < count; ++i)
+        if (i != k) rest.faces[rest.count++] = faces[i];
+      return rest;
     }
+  };
+
+  /// A convex polygon in a cell: a triangle cut by at most 3 planes has at most 6 corners.
+  /// `sample` is the corner's sample index, −1 for a point where a plane cut an edge.
+  struct Piece {
+    std::array<Vec3, 6> points;
+    std::array<int, 6> samples{};
+    int size = 0;
+
+    void add(const Vec3& p, int sample) {
+      points[size] = p;
+      samples[size++] = sample;
+    }
+  };
+
+  Candidates closestTriangles(const Cell& cell) const {
+    Candidates candidates;
+    for (const int t : {face_[cell.corners[0]], face_[cell.corners[1]], face_[cell.corners[2]],
+                        face_[cell.centroid]})
+      if (std::find(candidates.faces.begin(), candidates.faces.begin() + candidates.count, t) ==
+          candidates.faces.begin() + candidates.count)
+        candidates.faces[candidates.count++] = t;
+    return candidates;
+  }
+
+  Piece whole(const Cell& cell) const {
+    Piece piece;
+    for (const int c : cell.corners) piece.add(points_[c], c);
+    return piece;
+  }
+
+  /// A plane m·(p − origin) = 0 that separates two triangles of `to`, with the first on its
+  /// positive side.
+  struct Separator {
+    Vec3 origin;
+    Vec3 normal;
+  };
+
+  /// For triangles sharing an edge (a, b): the plane through the edge that bisects their
+  /// dihedral angle, m = w1 − w2 with w_i the unit vector in t_i's plane, perpendicular to the
+  /// edge, pointing into t_i; near a smooth surface it divides the cell as the closest points do.
+  /// For triangles sharing only a vertex v: m = u1 − u2, u_i the unit vector from v to t_i's
+  /// centroid. Nothing for triangles apart or folded onto each other.
+  std::optional<Separator> separator(int t1, int t2) const {
+    const TriangleArrays& target = to_.triangles();
+    const auto& f1 = target.triangles[t1];
+    const auto& f2 = target.triangles[t2];
+    std::array<int, 3> shared{};
+    int sharedCount = 0;
+    for (const int v : f1)
+      if (std::find(f2.begin(), f2.end(), v) != f2.end()) shared[sharedCount++] = v;
+    if (sharedCount == 0 || sharedCount == 3) return std::nullopt;
+    const Vec3& origin = target.positions[shared[0]];
+    const Vec3 axis =
+        sharedCount == 2 ? (target.positions[shared[1]] - origin).normalized() : Vec3::Zero();
+    const auto direction = [&](const std::array<int, 3>& face) {
+      const Vec3 r =
+          (target.positions[face[0]] + target.positions[face[1]] + target.positions[face[2]]) /
+              3.0 -
+          origin;
+      return (r - r.dot(axis) * axis).normalized();
+    };
+    const Vec3 normal = direction(f1) - direction(f2);
+    if (!(normal.squaredNorm() > 1e-12)) return std::nullopt;
+    return Separator{origin, normal};
+  }
+
+  /// max over the piece's corners of d(·, t), stopping at `cap`.
+  double pieceBound(const Piece& piece, int t, double cap) const {
+    double worst = 0.0;
+    for (int i = 0; i < piece.size && worst < cap; ++i)
+      worst = std::max(worst, piece.samples[i] >= 0 && face_[piece.samples[i]] == t
+                                  ? distance_[piece.samples[i]]
+                                  : to_.distanceToFace(piece.points[i], t));
+    return worst;
+  }
+
+  /// Cuts the piece by the separator of the first two candidates that have one; the positive
+  /// side keeps all but the second, the negative side all but the first, recursively. A piece
+  /// left with one candidate, or with none that separate, is bounded by `pieceBound`.
+  double splitBound(const Piece& piece, const Candidates& candidates, double cap) const {
+    if (piece.size == 0) return 0.0;
+    for (int k = 0; k < candidates.count; ++k)
+      for (int l = k + 1; l < candidates.count; ++l) {
+        const auto plane = separator(candidates.faces[k], candidates.faces[l]);
+        if (!plane) continue;
+        Piece positive, negative;
+        std::array<double, 6> side{};
+        for (int i = 0; i < piece.size; ++i)
+          side[i] = plane->normal.dot(piece.points[i] - plane->origin);
+        for (int i = 0; i < piece.size; ++i) {
+          if (side[i] >= 0.0) positive.add(piece.points[i], piece.samples[i]);
+          if (side[i] <= 0.0) negative.add(piece.points[i], piece.samples[i]);
+          const int j = (i + 1) % piece.size;
+          if ((side[i] < 0.0 && side[j] > 0.0) || (side[i] > 0.0 && side[j] < 0.0)) {
+            const Vec3 crossing = piece.points[i] + side[i] / (side[i] - side[j]) *
+                                                        (piece.points[j] - piece.points[i]);
+            positive.add(crossing, -1);
+            negative.add(crossing, -1);
+          }
+        }
+        const double worst = splitBound(positive, candidates.without(l), cap);
+        if (worst >= cap) return cap;
+        return std::max(worst, splitBound(negative, candidates.without(k), cap));
+      }
+    double best = cap;
+    for (int k = 0; k < candidates.count; ++k)
+      best = std::min(best, pieceBound(piece, candidates.faces[k], best));
     return best;
   }
 

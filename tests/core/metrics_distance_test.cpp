@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <array>
 #include <cmath>
+#include <tuple>
 
 #include "core/common/error.h"
 #include "core/mesh/load.h"
@@ -210,6 +212,78 @@ TEST(MetricsDistance, ClosestPointFarFromTheOriginIsExactAndLocal) {
     EXPECT_NEAR(result.distance, expected.distance, 1e-8);
     EXPECT_LE(result.visited, 2 * expected.visited + 8) << "query " << k;
   }
+}
+
+/// n × n vertex grid over [0, 1]² at pseudo-random heights in [0, amplitude): every edge is a
+/// crease, at angles that differ from edge to edge.
+TriMesh creasedSheet(int n, double amplitude, double seed) {
+  TriMesh mesh = unitSquare(n);
+  for (const auto vh : mesh.vertices()) {
+    const auto p = mesh.point(vh);
+    const double hash = std::sin(127.1 * p[0] + 311.7 * p[1] + seed) * 43758.5453;
+    mesh.set_point(vh, {p[0], p[1], amplitude * (hash - std::floor(hash))});
+  }
+  return mesh;
+}
+
+/// Largest distance to `to` over a barycentric grid of `divisions` steps on every face of `from`:
+/// a lower bound of the supremum.
+double denselySampledMax(const TriMesh& from, const ClosestPointQuery& to, int divisions) {
+  double largest = 0.0;
+  for (const auto fh : from.faces()) {
+    std::array<Eigen::Vector3d, 3> corner;
+    int k = 0;
+    for (const auto vh : from.fv_range(fh)) corner[k++] = toEigen(from.point(vh));
+    for (int i = 0; i <= divisions; ++i)
+      for (int j = 0; i + j <= divisions; ++j) {
+        const Eigen::Vector3d p = corner[0] + (corner[1] - corner[0]) * i / divisions +
+                                  (corner[2] - corner[0]) * j / divisions;
+        largest = std::max(largest, to.closest(p).distance);
+      }
+  }
+  return largest;
+}
+
+TEST(MetricsDistance, BoundsHoldBetweenCreasedSurfaces) {
+  // Cells whose corners are closest to different triangles are bounded piece by piece, the
+  // pieces cut by planes through the triangles' shared edge or vertex. Every edge of these sheets
+  // is a crease, so pieces that missed part of their cell, or a distance taken to another
+  // triangle than the piece's, would undercut the true supremum (both checked to fail here).
+  const TriMesh coarse = creasedSheet(6, 0.12, 0.0), fine = creasedSheet(17, 0.05, 1.0);
+  const ClosestPointQuery toCoarse(coarse), toFine(fine);
+  for (const double tolerance : {0.005, 0.3}) {
+    DistanceOptions options;
+    options.minSamples = 1;
+    options.relativeTolerance = tolerance;
+    for (const auto& [from, to, name] :
+         {std::tuple{&coarse, &toFine, "coarse to fine"}, {&fine, &toCoarse, "fine to coarse"}}) {
+      const OneSidedDistance d = oneSidedDistance(*from, *to, options);
+      const double dense = denselySampledMax(*from, *to, 24);
+      EXPECT_TRUE(d.certified) << name;
+      EXPECT_GE(d.maxUpperBound, dense * (1.0 - 1e-12)) << name << ", tolerance " << tolerance;
+      EXPECT_GE(d.max * (1.0 + tolerance), dense * (1.0 - 1e-12)) << name;
+    }
+  }
+}
+
+TEST(MetricsDistance, CloseSmoothSurfacesAreCertifiedWithinTheBudget) {
+  // Two approximations of one sphere, turned against each other, are close everywhere, so
+  // nearly every cell's bound must come near the maximum. Bounded by one triangle, a cell's
+  // bound overshoots by its reach past that triangle's edges times their dihedral angle, and the
+  // budget was spent with bounds 4 times the maximum; cut along the edges it is exact.
+  TriMesh coarse = makeIcosphere(4);
+  const Eigen::Matrix3d turn =
+      Eigen::AngleAxisd(0.3, Eigen::Vector3d(1.0, 2.0, 3.0).normalized()).toRotationMatrix();
+  for (const auto vh : coarse.vertices())
+    coarse.set_point(vh, toOpenMesh(turn * toEigen(coarse.point(vh))));
+  const TriMesh fine = makeIcosphere(5);
+  const TwoSidedDistance d = twoSidedDistance(coarse, fine);
+  const DistanceOptions defaults;
+  for (const OneSidedDistance* side : {&d.aToB, &d.bToA}) {
+    EXPECT_TRUE(side->certified);  // before the budget of samples was spent
+  }
+  EXPECT_GT(d.hausdorff(), 0.0);
+  EXPECT_LE(d.hausdorffUpperBound(), d.hausdorff() * (1.0 + defaults.relativeTolerance));
 }
 
 TEST(MetricsDistance, ResultsDoNotDependOnThreadCount) {
