@@ -233,6 +233,57 @@ void repairNonManifold(Assembly& out, ExtractionReport& report) {
   dropDegenerateAndOverlapping(out.triangles, report);
 }
 
+long long keepLargestFans(std::vector<Triangle>& triangles, std::size_t vertexCount,
+                          const std::vector<bool>& eligible) {
+  constexpr int kMaxPasses = 4;
+  long long dropped = 0;
+  for (int pass = 0; pass < kMaxPasses; ++pass) {
+    std::vector<int> pinched;
+    for (const int v : nonManifoldVertices(triangles, vertexCount))
+      if (eligible[v]) pinched.push_back(v);
+    if (pinched.empty()) break;
+    std::vector<std::vector<int>> around(vertexCount);
+    for (std::size_t t = 0; t < triangles.size(); ++t)
+      for (const int v : triangles[t]) around[v].push_back(static_cast<int>(t));
+    std::vector<bool> drop(triangles.size(), false);
+    for (const int v : pinched) {
+      std::vector<int> fan;  // v's triangles still kept, in index order
+      for (const int t : around[v])
+        if (!drop[t]) fan.push_back(t);
+      // Fans: triangles at v joined through the edges at v they share (union by relabelling).
+      std::vector<int> label(fan.size());
+      for (std::size_t i = 0; i < fan.size(); ++i) label[i] = static_cast<int>(i);
+      const auto sharesEdgeAtV = [&](int a, int b) {
+        for (const int x : triangles[a])
+          if (x != v &&
+              std::find(triangles[b].begin(), triangles[b].end(), x) != triangles[b].end())
+            return true;
+        return false;
+      };
+      for (bool changed = true; changed;) {
+        changed = false;
+        for (std::size_t i = 0; i < fan.size(); ++i)
+          for (std::size_t j = i + 1; j < fan.size(); ++j)
+            if (label[i] != label[j] && sharesEdgeAtV(fan[i], fan[j])) {
+              label[i] = label[j] = std::min(label[i], label[j]);
+              changed = true;
+            }
+      }
+      std::vector<int> size(fan.size(), 0);
+      for (const int l : label) ++size[l];
+      // The largest fan stays; on a tie the one with the lowest triangle index.
+      const int keep = static_cast<int>(std::max_element(size.begin(), size.end()) - size.begin());
+      for (std::size_t i = 0; i < fan.size(); ++i)
+        if (label[i] != keep) drop[fan[i]] = true, ++dropped;
+    }
+    std::vector<Triangle> kept;
+    for (std::size_t t = 0; t < triangles.size(); ++t)
+      if (!drop[t]) kept.push_back(triangles[t]);
+    triangles = std::move(kept);
+  }
+  return dropped;
+}
+
 long long collapseLatticePointCopies(Assembly& out) {
   // Measured ratios of the copies' edge to the hole's sides: 0.04-0.18 (bunny_7k, camelhead,
   // feline and spot at V/4 and V/16).

@@ -66,6 +66,15 @@ void fillGap(const std::vector<int>& loop, Assembly& out, std::vector<Triangle>&
 /// the holes this leaves are filled (only their stretches off the output boundary).
 void repairNonManifold(Assembly& out, ExtractionReport& report);
 
+/// Step 4b, first: a vertex marked `eligible` whose triangles form several fans keeps only the
+/// largest fan (on a tie the one with the lowest triangle index); the others' triangles are
+/// dropped, again while dropping leaves such vertices. Near the input boundary this is where the
+/// lattice, squeezed between two boundary loops, touches itself: a front through the vertex twice
+/// would get a strip fan on each pass, and removing the vertex afterwards would open the strip
+/// between the two loops and join them. Returns the number of triangles dropped.
+long long keepLargestFans(std::vector<Triangle>& triangles, std::size_t vertexCount,
+                          const std::vector<bool>& eligible);
+
 /// Step 4, last: collapses each interior edge far shorter than the other edges of its two triangles
 /// (kCopyEdgeRatio) whose collapse makes the valences of its four vertices more regular: the
 /// two ends are copies of one lattice point, where the rounding put two singularities (spot's

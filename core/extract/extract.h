@@ -26,15 +26,17 @@
 //    lattice point (two singularities the rounding put on one point), is collapsed when that
 //    makes the valences more regular: a +2/6 cone becomes one valence-4 vertex.
 // 5. Boundary (BoundaryMode::Follow): lattice vertices closer than `boundarySnapDistance` edge
-//    lengths to the input boundary are removed, each input boundary loop is resampled (keeping
-//    corners sharper than `sharpBoundaryAngle`) and the strip between it and the lattice front is
-//    triangulated, so the output boundary lies on the input boundary. The samples are chosen so
-//    that every front vertex gets valence 6 (6 − a samples for a lattice edges), which keeps the
-//    irregular vertices at the singularities next to the boundary too; a sharp corner replaces
-//    the nearest sample within half a spacing, and one turning by more than 80° with no sample
-//    that close gets a sample of its own (its front vertex then has valence 7). For squares
-//    (N = 4) a front vertex with a polygon edges gets 5 − a samples, and along straight stretches
-//    of the front the strip is a row of squares (valence 4 at the front).
+//    lengths to the input boundary are removed; where the lattice then touches itself at a vertex
+//    near the boundary (squeezed between two nearby loops), only the vertex's largest fan of
+//    triangles stays, so that no front passes a vertex twice. Each input boundary loop is
+//    resampled (keeping corners sharper than `sharpBoundaryAngle`) and the strip between it and
+//    the lattice front is triangulated, so the output boundary lies on the input boundary. The
+//    samples are chosen so that every front vertex gets valence 6 (6 − a samples for a lattice
+//    edges), which keeps the irregular vertices at the singularities next to the boundary too; a
+//    sharp corner replaces the nearest sample within half a spacing, and one turning by more
+//    than 80° with no sample that close gets a sample of its own (its front vertex then has
+//    valence 7). For squares (N = 4) a front vertex with a polygon edges gets 5 − a samples, and
+//    along straight stretches of the front the strip is a row of squares (valence 4 at the front).
 // 6. Components of the input whose remesh has fewer triangles than one hexagon (6), or not the
 //    component's topology (Euler characteristic, boundary loops, one piece), are copied
 //    unchanged. When every component is copied, steps 7 and 8 are skipped: the output is the
@@ -128,6 +130,9 @@ struct ExtractionReport {
   long long holesFilled = 0;           ///< interior holes (coverage gaps) closed locally
   long long holeTriangles = 0;         ///< triangles added to close them
   long long unmatchedBoundaryLoops = 0;  ///< input boundary loops without a single lattice front
+  /// Lattice triangles near the input boundary dropped where the lattice touched itself at a
+  /// vertex (all but the vertex's largest fan), before the strips were stitched.
+  long long pinchedFanTriangles = 0;
   long long components = 0;              ///< components of the input (connected through edges)
   long long componentsKept = 0;  ///< input components too small for the lattice (step 6), copied
   /// Of those, components with lattice triangles enough whose triangles did not have the

@@ -336,8 +336,17 @@ void closeBoundaries(const TriMesh& mesh, const std::vector<int>& faceComponent,
     }
     removeVertices(out, drop);
     h = localEdgeLength(out);
+    // Where the lattice, squeezed between two nearby input loops, touches itself at a vertex,
+    // the front would pass it twice; only its largest fan stays.
+    std::vector<bool> nearBoundary(out.positions.size(), false);
+    for (std::size_t v = 0; v < out.positions.size(); ++v) {
+      const double reach = (options.boundarySnapDistance + 2.0) * std::max(h[v], typical);
+      nearBoundary[v] = h[v] > 0.0 && index.nearest(out.positions[v], reach).loop >= 0;
+    }
+    report.pinchedFanTriangles +=
+        keepLargestFans(out.triangles, out.positions.size(), nearBoundary);
+    h = localEdgeLength(out);
   }
-
   // Classify the loops of the lattice triangles: a front when most of its vertices are within
   // reach of the input boundary, else a gap. Each input loop is stitched to the front that has
   // the most vertices near it; a front near several loops (the lattice does not fit between

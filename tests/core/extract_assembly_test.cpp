@@ -1,8 +1,9 @@
 // The repairs of the output under construction (core/extract/assembly.h): collapsing the short
-// edge between two copies of one lattice point.
+// edge between two copies of one lattice point; keeping one fan where the lattice touches itself.
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/extract/assembly.h"
@@ -99,6 +100,56 @@ TEST(LatticePointCopies, ShortEdgesOfARegularPatchStayWhereACollapseWouldMakeVal
   out.positions[gridVertex(3, 3)] = out.positions[gridVertex(4, 3)] - Eigen::Vector3d(0.1, 0, 0);
   EXPECT_EQ(collapseLatticePointCopies(out), 0);
   EXPECT_EQ(irregularInterior(out), 0);
+}
+
+/// The patch's triangles at `v`, in the patch's order (counter-clockwise from (i+1, j)).
+std::vector<Triangle> star(const Assembly& out, int v) {
+  std::vector<Triangle> around;
+  for (const auto& t : out.triangles)
+    if (std::find(t.begin(), t.end(), v) != t.end()) around.push_back(t);
+  return around;
+}
+
+bool contains(const std::vector<Triangle>& triangles, const Triangle& t) {
+  return std::find(triangles.begin(), triangles.end(), t) != triangles.end();
+}
+
+// The star of an interior vertex without two of its six triangles that share no edge: a fan of
+// one triangle and a fan of three, touching at the vertex (a bowtie, as where the lattice is
+// squeezed between two nearby boundary loops).
+TEST(PinchedFans, OnlyTheLargestFanStays) {
+  Assembly out = equilateralPatch();
+  const int v = gridVertex(3, 3);
+  const std::vector<Triangle> around = star(out, v);
+  ASSERT_EQ(around.size(), 6u);
+  // Triangles sharing an edge at v: the star's cycle, found by the shared corners.
+  const auto adjacent = [&](const Triangle& a, const Triangle& b) {
+    int shared = 0;
+    for (const int x : a) shared += std::find(b.begin(), b.end(), x) != b.end() ? 1 : 0;
+    return shared == 2;
+  };
+  std::vector<Triangle> cycle{around[0]};
+  while (cycle.size() < around.size())
+    for (const auto& t : around)
+      if (!contains(cycle, t) && adjacent(cycle.back(), t)) {
+        cycle.push_back(t);
+        break;
+      }
+  ASSERT_EQ(cycle.size(), 6u);
+  std::erase_if(out.triangles, [&](const Triangle& t) { return t == cycle[1] || t == cycle[3]; });
+  const std::size_t before = out.triangles.size();
+
+  std::vector<bool> eligible(out.positions.size(), false);
+  std::vector<Triangle> untouched = out.triangles;
+  EXPECT_EQ(keepLargestFans(untouched, out.positions.size(), eligible), 0);
+  EXPECT_EQ(untouched, out.triangles) << "only eligible vertices lose fans";
+
+  eligible[v] = true;
+  EXPECT_EQ(keepLargestFans(out.triangles, out.positions.size(), eligible), 1);
+  EXPECT_EQ(out.triangles.size(), before - 1);
+  EXPECT_FALSE(contains(out.triangles, cycle[2])) << "the fan of one triangle goes";
+  for (const int k : {4, 5, 0}) EXPECT_TRUE(contains(out.triangles, cycle[k]));
+  EXPECT_EQ(keepLargestFans(out.triangles, out.positions.size(), eligible), 0) << "one fan is left";
 }
 
 }  // namespace
