@@ -4,6 +4,8 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <optional>
+#include <set>
 #include <utility>
 
 #include "core/extract/boundary.h"
@@ -204,12 +206,144 @@ bool stitchFrontByValence(const BoundaryIndex& index, int loop, int component,
   return true;
 }
 
+/// A maximal stretch of front vertices nearest to one input loop: front indices [begin, end).
+struct FrontRun {
+  int loop;
+  std::size_t begin, end;
+};
+
+/// The runs of equal labels along a front.
+std::vector<FrontRun> frontRuns(const std::vector<int>& label) {
+  std::vector<FrontRun> runs;
+  for (std::size_t k = 0; k < label.size(); ++k) {
+    if (runs.empty() || runs.back().loop != label[k]) {
+      runs.push_back({label[k], k, k + 1});
+    } else {
+      runs.back().end = k + 1;
+    }
+  }
+  return runs;
+}
+
+/// Whether the runs' loops, in front order and back to the first, walk a tree of bridges (an
+/// Euler tour): each step goes to a loop not reached yet or back to the loop it came from.
+bool walksATree(const std::vector<FrontRun>& runs) {
+  std::vector<int> path{runs.front().loop};
+  std::set<int> reached{runs.front().loop};
+  for (std::size_t r = 1; r <= runs.size(); ++r) {
+    const int loop = runs[r % runs.size()].loop;
+    if (reached.insert(loop).second) {
+      path.push_back(loop);
+    } else if (path.size() >= 2 && path[path.size() - 2] == loop) {
+      path.pop_back();
+    } else {
+      return false;
+    }
+  }
+  return path.size() == 1;
+}
+
+/// The outer side of a strip whose front runs along several input loops, and the front's
+/// positions along it.
+struct BridgedStrip {
+  std::vector<int> outer;
+  std::vector<double> outerParam, frontParam;
+  double total = 0.0;
+};
+
+/// The strip's outer side for a front whose runs walk a tree of bridges (`walksATree`). Each
+/// input loop is cut once between each two of its runs, half-way along the loop from the one's
+/// last front vertex to the next one's first (where the front turns to a neighbouring loop);
+/// each run takes the samples between its cuts, and consecutive runs are joined by a bridge from
+/// one's last sample to the next one's first. Every bridge is then walked once each way, an
+/// interior edge of the strip, so the loops stay apart. Nothing when the runs do not walk a tree
+/// or their cuts fall out of order; `addSamples(i)` samples loop i (after those checks).
+template <class AddSamples>
+std::optional<BridgedStrip> bridgedAlongRuns(const BoundaryIndex& index,
+                                             const std::vector<FrontRun>& runs,
+                                             const std::vector<double>& arc, double spacing,
+                                             const ExtractOptions& options,
+                                             const AddSamples& addSamples,
+                                             const std::vector<Eigen::Vector3d>& positions) {
+  std::map<int, std::vector<std::size_t>> runsOf;  // loop -> its runs in front order
+  std::vector<int> loops;                          // in the order the front reaches them
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    if (runsOf.find(runs[r].loop) == runsOf.end()) loops.push_back(runs[r].loop);
+    runsOf[runs[r].loop].push_back(r);
+  }
+  if (loops.size() < 3 || !walksATree(runs)) return std::nullopt;
+  // Per run: the sample indices of its first and last sample on its loop.
+  std::vector<std::size_t> from(runs.size()), to(runs.size());
+  for (const int i : loops) {
+    const std::vector<double> sampleArc =
+        sampleBoundaryLoop(index, i, spacing, options.sharpBoundaryAngle);
+    const std::vector<std::size_t>& own = runsOf.at(i);
+    const std::size_t m = own.size(), size = sampleArc.size();
+    std::vector<std::size_t> cut(m);  // cut[k]: before run own[k]
+    for (std::size_t k = 0; k < m; ++k) {
+      const double exit = arc[runs[own[(k + m - 1) % m]].end - 1];
+      const double entry = arc[runs[own[k]].begin];
+      const double at = exit + 0.5 * index.wrappedArc(i, entry - exit);
+      const auto distance = [&](std::size_t s) {
+        const double d = index.wrappedArc(i, sampleArc[s] - at);
+        return std::min(d, index.loopLength(i) - d);
+      };
+      cut[k] = 0;
+      for (std::size_t s = 1; s < size; ++s)
+        if (distance(s) < distance(cut[k])) cut[k] = s;
+    }
+    std::size_t steps = 0;  // the runs' samples tile the loop once when the cuts are in order
+    for (std::size_t k = 0; k < m; ++k) steps += (cut[(k + 1) % m] + size - cut[k]) % size;
+    if (m > 1 && steps != size) return std::nullopt;
+    for (std::size_t k = 0; k < m; ++k) from[own[k]] = cut[k], to[own[k]] = cut[(k + 1) % m];
+  }
+
+  std::map<int, std::pair<std::vector<int>, std::vector<double>>> samplesOf;
+  for (const int i : loops) samplesOf.emplace(i, addSamples(i));
+  BridgedStrip strip;
+  strip.frontParam.resize(arc.size());
+  double offset = 0.0;
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    const int i = runs[r].loop;
+    const auto& [samples, sampleArc] = samplesOf.at(i);
+    const std::size_t size = samples.size();
+    const bool whole = runsOf.at(i).size() == 1;
+    const std::size_t steps = whole ? size : (to[r] + size - from[r]) % size;
+    const double length = index.loopLength(i);
+    const double startArc = sampleArc[from[r]];
+    if (!strip.outer.empty())
+      offset += (positions[strip.outer.back()] - positions[samples[from[r]]]).norm();
+    const double runOffset = offset;
+    for (std::size_t t = 0; t <= steps; ++t) {
+      const std::size_t at = (from[r] + t) % size;
+      strip.outer.push_back(samples[at]);
+      strip.outerParam.push_back(runOffset + (whole && t == steps
+                                                  ? length
+                                                  : index.wrappedArc(i, sampleArc[at] - startArc)));
+    }
+    offset = strip.outerParam.back();
+    // A front vertex a little before the run's first sample (closer to it, behind, than to the
+    // run's end, ahead) sits before it.
+    const double span = offset - runOffset;
+    const double behind = whole ? 0.75 * length : span + 0.5 * (length - span);
+    for (std::size_t k = runs[r].begin; k < runs[r].end; ++k) {
+      double d = index.wrappedArc(i, arc[k] - startArc);
+      if (d > behind) d -= length;
+      strip.frontParam[k] = runOffset + d;
+    }
+  }
+  strip.total = offset + (positions[strip.outer.back()] - positions[strip.outer.front()]).norm();
+  return strip;
+}
+
 /// Samples the input loops `inputs` at the front's edge length and stitches the strip between
-/// them and the lattice front (step 5). With several input loops, the front visits them one after
-/// the other; their samples are chained into one outer loop, each loop walked once around from
-/// the sample where the front arrives and joined to the next by a bridge edge, so the strip (a
-/// sphere with 1 + k holes) is triangulated in one zip. A front along a single loop is stitched
-/// by valence when it can be (stitchFrontByValence).
+/// them and the lattice front (step 5). With several input loops, their samples are chained into
+/// one outer loop by bridge edges, each walked once each way, so the strip (a sphere with 1 + k
+/// holes) is triangulated in one zip and keeps the k loops apart. Along three or more loops
+/// whose runs walk a tree of bridges, the outer loop follows the front run by run
+/// (`bridgedAlongRuns`); otherwise each loop is walked once around from the sample where the
+/// front arrives, in the order the front reaches them, and the chain of bridges walked back. A
+/// front along a single loop is stitched by valence when it can be (stitchFrontByValence).
 void stitchFront(const BoundaryIndex& index, const std::vector<int>& inputLoopComponent,
                  const std::vector<int>& inputs, std::vector<int> front,
                  const std::vector<double>& h, const std::vector<int>& latticeValence,
@@ -266,16 +400,32 @@ void stitchFront(const BoundaryIndex& index, const std::vector<int>& inputLoopCo
       start = j;
       break;
     }
-  std::vector<int> order;  // the input loops in the order the front reaches them
-  std::vector<double> entryArc;
+  std::vector<int> rotated(n);
+  std::vector<int> rotatedLabel(n);
+  std::vector<double> rotatedArc(n);
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t j = (start + k) % n;
-    if (std::find(order.begin(), order.end(), label[j]) == order.end())
-      order.push_back(label[j]), entryArc.push_back(arc[j]);
+    rotated[k] = front[j], rotatedLabel[k] = label[j], rotatedArc[k] = arc[j];
   }
+  const std::vector<FrontRun> runs = frontRuns(rotatedLabel);
+  if (const auto strip =
+          bridgedAlongRuns(index, runs, rotatedArc, spacing, options, addSamples, out.positions)) {
+    stitchStrip(out.positions, normals, strip->outer, strip->outerParam, rotated, strip->frontParam,
+                strip->total, added);
+    return;
+  }
+  // Two loops, or runs that do not walk a tree of bridges (labels that alternate back and
+  // forth): each loop is walked once, in the order the front reaches it, and the chain of
+  // bridges walked back.
+  std::vector<int> order;  // the input loops in the order the front reaches them
+  std::vector<double> entryArc;
+  for (std::size_t k = 0; k < n; ++k)
+    if (std::find(order.begin(), order.end(), rotatedLabel[k]) == order.end())
+      order.push_back(rotatedLabel[k]), entryArc.push_back(rotatedArc[k]);
   std::vector<int> outer;
   std::vector<double> outerParam;
   std::map<int, std::pair<double, double>> offsetAndStart;  // loop -> (offset, start arc)
+  std::vector<int> bridgeEnds;  // per loop in `order`: its first sample, where its bridge ends
   double offset = 0.0;
   for (std::size_t o = 0; o < order.size(); ++o) {
     const int i = order[o];
@@ -299,16 +449,23 @@ void stitchFront(const BoundaryIndex& index, const std::vector<int>& inputLoopCo
           offset + (k == samples.size() ? length : wrapped(sampleArc[at] - sampleArc[first])));
     }
     offset = outerParam.back();
+    bridgeEnds.push_back(samples[first]);
+  }
+  // Back along the bridges to the first loop: each bridge is then walked both ways, an interior
+  // edge of the strip, so the k loops stay apart (with only the chain's forward bridges and the
+  // closing edge from the last loop to the first, those edges would be on the boundary and the
+  // loops of three or more would join into one).
+  for (std::size_t o = bridgeEnds.size() - 1; o-- > 1;) {
+    offset += (out.positions[outer.back()] - out.positions[bridgeEnds[o]]).norm();
+    outer.push_back(bridgeEnds[o]);
+    outerParam.push_back(offset);
   }
   const double total = offset + (out.positions[outer.back()] - out.positions[outer.front()]).norm();
-  std::vector<int> rotated(n);
   std::vector<double> param(n);
   for (std::size_t k = 0; k < n; ++k) {
-    const std::size_t j = (start + k) % n;
-    rotated[k] = front[j];
-    const auto [base, startArc] = offsetAndStart.at(label[j]);
-    const double length = index.loopLength(label[j]);
-    double d = index.wrappedArc(label[j], arc[j] - startArc);
+    const auto [base, startArc] = offsetAndStart.at(rotatedLabel[k]);
+    const double length = index.loopLength(rotatedLabel[k]);
+    double d = index.wrappedArc(rotatedLabel[k], rotatedArc[k] - startArc);
     if (d > 0.75 * length) d -= length;  // just before the piece's first sample
     param[k] = base + d;
   }

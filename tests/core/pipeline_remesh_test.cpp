@@ -177,6 +177,43 @@ TEST(PipelineRemesh, KeepsEveryCornerOfASquarePlate) {
   EXPECT_GE(result.metrics.angleMin, 20.0);
 }
 
+// A flat unit square of 60 × 60 cells with three holes of 2 × 2 cells in a row, one cell apart:
+// at h = 0.03-0.055 the lattice does not fit between the holes, so one front runs along all
+// three. Its strip chained the holes by bridges walked once (the third back to the first), which
+// joined them into one loop, and the plate was copied unchanged. The front's runs now cut each
+// hole where the front turns to its neighbour, and every bridge is walked there and back.
+TEST(PipelineRemesh, KeepsThreeNearbyHolesApartAlongOneFront) {
+  constexpr int n = 60, hole = 2, gap = 1, holes = 3;
+  constexpr int first = (n - holes * hole - (holes - 1) * gap) / 2, row = (n - hole) / 2;
+  const auto inHole = [&](int x, int y) {
+    const int along = x - first;
+    return along >= 0 && along < holes * (hole + gap) - gap && along % (hole + gap) < hole &&
+           y >= row && y < row + hole;
+  };
+  PolygonSoup plate;
+  for (int y = 0; y <= n; ++y)
+    for (int x = 0; x <= n; ++x) plate.positions.emplace_back(double(x) / n, double(y) / n, 0.0);
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      if (inHole(x, y)) continue;
+      const std::uint32_t a = y * (n + 1) + x, b = a + 1, c = a + n + 1, d = c + 1;
+      plate.addFace(std::array<std::uint32_t, 3>{a, b, d});
+      plate.addFace(std::array<std::uint32_t, 3>{a, d, c});
+    }
+  for (const double h : {0.035, 0.05}) {
+    RemeshOptions options;
+    options.edgeLength = h;
+    const RemeshResult result = remesh(plate, options);
+    EXPECT_EQ(result.remesh.report.componentsKept, 0) << "h = " << h;
+    EXPECT_EQ(result.metrics.topology.boundaryLoops, 4) << "h = " << h;
+    EXPECT_TRUE(result.metrics.topologyMatchesReference.value_or(false)) << "h = " << h;
+    ASSERT_TRUE(result.metrics.distance.has_value());
+    EXPECT_LT(result.metrics.distance->hausdorffPct, 1e-6) << "h = " << h;
+    EXPECT_GE(result.metrics.angleMin, 20.0) << "h = " << h;
+    EXPECT_LE(result.metrics.angleMax, 130.0) << "h = " << h;
+  }
+}
+
 TEST(PipelineRemesh, TubeKeepsItsTwoBoundaryLoopsOnTheInputBoundary) {
   const TriMesh tube = makeTube(0.5, 2.0, 64, 38);
   const RemeshResult result = remesh(toPolygonSoup(tube), quarterOf(tube.n_vertices()));
