@@ -251,46 +251,41 @@ struct BridgedStrip {
   double total = 0.0;
 };
 
+/// The samples of each input loop along a front (vertex indices and arc positions).
+using SampledLoops = std::map<int, std::pair<std::vector<int>, std::vector<double>>>;
+
 /// The strip's outer side for a front whose runs walk a tree of bridges (`walksATree`). Each
 /// input loop is cut once between each two of its runs, half-way along the loop from the one's
 /// last front vertex to the next one's first (where the front turns to a neighbouring loop);
 /// each run takes the samples between its cuts, and consecutive runs are joined by a bridge from
 /// one's last sample to the next one's first. Every bridge is then walked once each way, an
 /// interior edge of the strip, so the loops stay apart. Nothing when the runs do not walk a tree
-/// or their cuts fall out of order; `addSamples(i)` samples loop i (after those checks).
-template <class AddSamples>
+/// or their cuts fall out of order.
 std::optional<BridgedStrip> bridgedAlongRuns(const BoundaryIndex& index,
                                              const std::vector<FrontRun>& runs,
-                                             const std::vector<double>& arc, double spacing,
-                                             const ExtractOptions& options,
-                                             const AddSamples& addSamples,
+                                             const std::vector<double>& arc,
+                                             const SampledLoops& loops,
                                              const std::vector<Eigen::Vector3d>& positions) {
+  if (runs.size() < 2 || !walksATree(runs)) return std::nullopt;
   std::map<int, std::vector<std::size_t>> runsOf;  // loop -> its runs in front order
-  std::vector<int> loops;                          // in the order the front reaches them
-  for (std::size_t r = 0; r < runs.size(); ++r) {
-    if (runsOf.find(runs[r].loop) == runsOf.end()) loops.push_back(runs[r].loop);
-    runsOf[runs[r].loop].push_back(r);
-  }
-  if (loops.size() < 3 || !walksATree(runs)) return std::nullopt;
-  // Per run: the sample indices of its first and last sample on its loop.
+  for (std::size_t r = 0; r < runs.size(); ++r) runsOf[runs[r].loop].push_back(r);
+  // Per run: the indices of its first and last sample on its loop.
   std::vector<std::size_t> from(runs.size()), to(runs.size());
-  for (const int i : loops) {
-    const std::vector<double> sampleArc =
-        sampleBoundaryLoop(index, i, spacing, options.sharpBoundaryAngle);
-    const std::vector<std::size_t>& own = runsOf.at(i);
+  for (const auto& [i, own] : runsOf) {
+    const std::vector<double>& sampleArc = loops.at(i).second;
     const std::size_t m = own.size(), size = sampleArc.size();
     std::vector<std::size_t> cut(m);  // cut[k]: before run own[k]
     for (std::size_t k = 0; k < m; ++k) {
       const double exit = arc[runs[own[(k + m - 1) % m]].end - 1];
       const double entry = arc[runs[own[k]].begin];
       const double at = exit + 0.5 * index.wrappedArc(i, entry - exit);
-      const auto distance = [&](std::size_t s) {
-        const double d = index.wrappedArc(i, sampleArc[s] - at);
+      const auto distance = [&](std::size_t sample) {
+        const double d = index.wrappedArc(i, sampleArc[sample] - at);
         return std::min(d, index.loopLength(i) - d);
       };
       cut[k] = 0;
-      for (std::size_t s = 1; s < size; ++s)
-        if (distance(s) < distance(cut[k])) cut[k] = s;
+      for (std::size_t sample = 1; sample < size; ++sample)
+        if (distance(sample) < distance(cut[k])) cut[k] = sample;
     }
     std::size_t steps = 0;  // the runs' samples tile the loop once when the cuts are in order
     for (std::size_t k = 0; k < m; ++k) steps += (cut[(k + 1) % m] + size - cut[k]) % size;
@@ -298,14 +293,12 @@ std::optional<BridgedStrip> bridgedAlongRuns(const BoundaryIndex& index,
     for (std::size_t k = 0; k < m; ++k) from[own[k]] = cut[k], to[own[k]] = cut[(k + 1) % m];
   }
 
-  std::map<int, std::pair<std::vector<int>, std::vector<double>>> samplesOf;
-  for (const int i : loops) samplesOf.emplace(i, addSamples(i));
   BridgedStrip strip;
   strip.frontParam.resize(arc.size());
   double offset = 0.0;
   for (std::size_t r = 0; r < runs.size(); ++r) {
     const int i = runs[r].loop;
-    const auto& [samples, sampleArc] = samplesOf.at(i);
+    const auto& [samples, sampleArc] = loops.at(i);
     const std::size_t size = samples.size();
     const bool whole = runsOf.at(i).size() == 1;
     const std::size_t steps = whole ? size : (to[r] + size - from[r]) % size;
@@ -336,14 +329,84 @@ std::optional<BridgedStrip> bridgedAlongRuns(const BoundaryIndex& index,
   return strip;
 }
 
+/// The strip's outer side with each loop walked once around from the sample nearest where the
+/// front first reaches it, in that order, joined by bridges and the chain of bridges walked
+/// back (each bridge once each way, so the loops stay apart).
+BridgedStrip chainedLoops(const BoundaryIndex& index, const std::vector<int>& label,
+                          const std::vector<double>& arc, const SampledLoops& loops,
+                          const std::vector<Eigen::Vector3d>& positions) {
+  std::vector<int> order;  // the input loops in the order the front reaches them
+  std::vector<double> entryArc;
+  for (std::size_t k = 0; k < label.size(); ++k)
+    if (std::find(order.begin(), order.end(), label[k]) == order.end())
+      order.push_back(label[k]), entryArc.push_back(arc[k]);
+  BridgedStrip strip;
+  std::map<int, std::pair<double, double>> offsetAndStart;  // loop -> (offset, start arc)
+  std::vector<int> bridgeEnds;  // per loop in `order`: its first sample, where its bridge ends
+  double offset = 0.0;
+  for (std::size_t o = 0; o < order.size(); ++o) {
+    const int i = order[o];
+    const double length = index.loopLength(i);
+    const auto& [samples, sampleArc] = loops.at(i);
+    const auto wrapped = [&](double d) { return index.wrappedArc(i, d); };
+    std::size_t first = 0;
+    for (std::size_t k = 1; k < samples.size(); ++k)
+      if (std::min(wrapped(sampleArc[k] - entryArc[o]),
+                   length - wrapped(sampleArc[k] - entryArc[o])) <
+          std::min(wrapped(sampleArc[first] - entryArc[o]),
+                   length - wrapped(sampleArc[first] - entryArc[o])))
+        first = k;
+    if (!strip.outer.empty())
+      offset += (positions[strip.outer.back()] - positions[samples[first]]).norm();
+    offsetAndStart[i] = {offset, sampleArc[first]};
+    for (std::size_t k = 0; k <= samples.size(); ++k) {
+      const std::size_t at = (first + k) % samples.size();
+      strip.outer.push_back(samples[at]);
+      strip.outerParam.push_back(
+          offset + (k == samples.size() ? length : wrapped(sampleArc[at] - sampleArc[first])));
+    }
+    offset = strip.outerParam.back();
+    bridgeEnds.push_back(samples[first]);
+  }
+  // Back along the bridges to the first loop (with only the chain's forward bridges and the
+  // closing edge from the last loop to the first, three or more loops would join into one).
+  for (std::size_t o = bridgeEnds.size() - 1; o-- > 1;) {
+    offset += (positions[strip.outer.back()] - positions[bridgeEnds[o]]).norm();
+    strip.outer.push_back(bridgeEnds[o]);
+    strip.outerParam.push_back(offset);
+  }
+  strip.total = offset + (positions[strip.outer.back()] - positions[strip.outer.front()]).norm();
+  strip.frontParam.resize(label.size());
+  for (std::size_t k = 0; k < label.size(); ++k) {
+    const auto [base, startArc] = offsetAndStart.at(label[k]);
+    const double length = index.loopLength(label[k]);
+    double d = index.wrappedArc(label[k], arc[k] - startArc);
+    if (d > 0.75 * length) d -= length;  // just before the piece's first sample
+    strip.frontParam[k] = base + d;
+  }
+  return strip;
+}
+
+/// Whether some directed edge is in two of the triangles (a strip folded onto itself, as when
+/// both sides of a bridge take the same front vertex).
+bool reusesAnEdge(const std::vector<Triangle>& triangles) {
+  std::set<std::pair<int, int>> edges;
+  for (const auto& t : triangles)
+    for (int k = 0; k < 3; ++k)
+      if (!edges.insert({t[k], t[(k + 1) % 3]}).second) return true;
+  return false;
+}
+
 /// Samples the input loops `inputs` at the front's edge length and stitches the strip between
 /// them and the lattice front (step 5). With several input loops, their samples are chained into
 /// one outer loop by bridge edges, each walked once each way, so the strip (a sphere with 1 + k
-/// holes) is triangulated in one zip and keeps the k loops apart. Along three or more loops
-/// whose runs walk a tree of bridges, the outer loop follows the front run by run
-/// (`bridgedAlongRuns`); otherwise each loop is walked once around from the sample where the
-/// front arrives, in the order the front reaches them, and the chain of bridges walked back. A
-/// front along a single loop is stitched by valence when it can be (stitchFrontByValence).
+/// holes) is triangulated in one zip and keeps the k loops apart. Two outer loops are built:
+/// along the front run by run (`bridgedAlongRuns`, when the runs walk a tree of bridges), and
+/// each loop walked whole in the order the front reaches them (`chainedLoops`). The first is
+/// zipped first along three or more loops, the second along two; the other is taken when the
+/// zip reuses a directed edge (both sides of a bridge on one front vertex fold the strip onto
+/// itself). A front along a single loop is stitched by valence when it can be
+/// (stitchFrontByValence).
 void stitchFront(const BoundaryIndex& index, const std::vector<int>& inputLoopComponent,
                  const std::vector<int>& inputs, std::vector<int> front,
                  const std::vector<double>& h, const std::vector<int>& latticeValence,
@@ -407,69 +470,31 @@ void stitchFront(const BoundaryIndex& index, const std::vector<int>& inputLoopCo
     const std::size_t j = (start + k) % n;
     rotated[k] = front[j], rotatedLabel[k] = label[j], rotatedArc[k] = arc[j];
   }
+  SampledLoops loops;
+  for (const int i : rotatedLabel)
+    if (loops.find(i) == loops.end()) loops.emplace(i, addSamples(i));
+  // Two outer sides to zip: along the front's runs first when the front passes three loops or
+  // more, else the loops walked whole; the other when the first folds the strip onto itself.
   const std::vector<FrontRun> runs = frontRuns(rotatedLabel);
-  if (const auto strip =
-          bridgedAlongRuns(index, runs, rotatedArc, spacing, options, addSamples, out.positions)) {
-    stitchStrip(out.positions, normals, strip->outer, strip->outerParam, rotated, strip->frontParam,
-                strip->total, added);
-    return;
+  std::vector<BridgedStrip> sides;
+  const auto alongRuns = bridgedAlongRuns(index, runs, rotatedArc, loops, out.positions);
+  BridgedStrip whole = chainedLoops(index, rotatedLabel, rotatedArc, loops, out.positions);
+  if (alongRuns && loops.size() >= 3) sides.push_back(*alongRuns);
+  sides.push_back(std::move(whole));
+  if (alongRuns && loops.size() < 3) sides.push_back(*alongRuns);
+  std::vector<Triangle> zipped;
+  for (const BridgedStrip& side : sides) {
+    zipped.clear();
+    stitchStrip(out.positions, normals, side.outer, side.outerParam, rotated, side.frontParam,
+                side.total, zipped);
+    if (!reusesAnEdge(zipped)) break;
   }
-  // Two loops, or runs that do not walk a tree of bridges (labels that alternate back and
-  // forth): each loop is walked once, in the order the front reaches it, and the chain of
-  // bridges walked back.
-  std::vector<int> order;  // the input loops in the order the front reaches them
-  std::vector<double> entryArc;
-  for (std::size_t k = 0; k < n; ++k)
-    if (std::find(order.begin(), order.end(), rotatedLabel[k]) == order.end())
-      order.push_back(rotatedLabel[k]), entryArc.push_back(rotatedArc[k]);
-  std::vector<int> outer;
-  std::vector<double> outerParam;
-  std::map<int, std::pair<double, double>> offsetAndStart;  // loop -> (offset, start arc)
-  std::vector<int> bridgeEnds;  // per loop in `order`: its first sample, where its bridge ends
-  double offset = 0.0;
-  for (std::size_t o = 0; o < order.size(); ++o) {
-    const int i = order[o];
-    const double length = index.loopLength(i);
-    const auto [samples, sampleArc] = addSamples(i);
-    const auto wrapped = [&](double d) { return index.wrappedArc(i, d); };
-    std::size_t first = 0;
-    for (std::size_t k = 1; k < samples.size(); ++k)
-      if (std::min(wrapped(sampleArc[k] - entryArc[o]),
-                   length - wrapped(sampleArc[k] - entryArc[o])) <
-          std::min(wrapped(sampleArc[first] - entryArc[o]),
-                   length - wrapped(sampleArc[first] - entryArc[o])))
-        first = k;
-    if (!outer.empty())
-      offset += (out.positions[outer.back()] - out.positions[samples[first]]).norm();
-    offsetAndStart[i] = {offset, sampleArc[first]};
-    for (std::size_t k = 0; k <= samples.size(); ++k) {
-      const std::size_t at = (first + k) % samples.size();
-      outer.push_back(samples[at]);
-      outerParam.push_back(
-          offset + (k == samples.size() ? length : wrapped(sampleArc[at] - sampleArc[first])));
-    }
-    offset = outerParam.back();
-    bridgeEnds.push_back(samples[first]);
+  if (reusesAnEdge(zipped)) {  // neither is clean: the first, as the repair expects
+    zipped.clear();
+    stitchStrip(out.positions, normals, sides.front().outer, sides.front().outerParam, rotated,
+                sides.front().frontParam, sides.front().total, zipped);
   }
-  // Back along the bridges to the first loop: each bridge is then walked both ways, an interior
-  // edge of the strip, so the k loops stay apart (with only the chain's forward bridges and the
-  // closing edge from the last loop to the first, those edges would be on the boundary and the
-  // loops of three or more would join into one).
-  for (std::size_t o = bridgeEnds.size() - 1; o-- > 1;) {
-    offset += (out.positions[outer.back()] - out.positions[bridgeEnds[o]]).norm();
-    outer.push_back(bridgeEnds[o]);
-    outerParam.push_back(offset);
-  }
-  const double total = offset + (out.positions[outer.back()] - out.positions[outer.front()]).norm();
-  std::vector<double> param(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    const auto [base, startArc] = offsetAndStart.at(rotatedLabel[k]);
-    const double length = index.loopLength(rotatedLabel[k]);
-    double d = index.wrappedArc(rotatedLabel[k], rotatedArc[k] - startArc);
-    if (d > 0.75 * length) d -= length;  // just before the piece's first sample
-    param[k] = base + d;
-  }
-  stitchStrip(out.positions, normals, outer, outerParam, rotated, param, total, added);
+  added.insert(added.end(), zipped.begin(), zipped.end());
 }
 
 }  // namespace

@@ -214,6 +214,46 @@ TEST(PipelineRemesh, KeepsThreeNearbyHolesApartAlongOneFront) {
   }
 }
 
+/// A unit sphere (icosphere of 20,480 faces) with `holes` small holes, as a scan leaves them:
+/// the faces around every 250th vertex removed.
+PolygonSoup sphereWithHoles(int holes) {
+  const TriMesh sphere = makeIcosphere(5);
+  std::vector<bool> centre(sphere.n_vertices(), false);
+  for (int k = 0; k < holes; ++k) centre[12 + 250 * k] = true;
+  PolygonSoup soup;
+  for (const auto v : sphere.vertices()) soup.positions.push_back(toEigen(sphere.point(v)));
+  for (const auto f : sphere.faces()) {
+    std::array<std::uint32_t, 3> corners{};
+    bool aroundAHole = false;
+    int k = 0;
+    for (const auto v : f.vertices()) {
+      corners[k++] = static_cast<std::uint32_t>(v.idx());
+      aroundAHole = aroundAHole || centre[v.idx()];
+    }
+    if (!aroundAHole) soup.addFace(corners);
+  }
+  return soup;
+}
+
+// A front along two nearby holes walked each hole whole; where both sides of the bridge between
+// them took the same front vertex the strip folded onto itself, and the repair joined the holes.
+// The strip cut where the front turns from one hole to the other is zipped instead: at K = 1000
+// the first run keeps all 37 loops (it took four runs and came back with angles of 4.5-150.7°).
+TEST(PipelineRemesh, KeepsTheSmallHolesOfAScanApart) {
+  const PolygonSoup sphere = sphereWithHoles(40);
+  for (const long long target : {1000, 2000, 4000}) {
+    RemeshOptions options;
+    options.targetVertices = target;
+    const RemeshResult result = remesh(sphere, options);
+    EXPECT_EQ(result.sizeIterations, 1) << "K = " << target;
+    EXPECT_EQ(result.remesh.report.componentsKept, 0) << "K = " << target;
+    EXPECT_TRUE(result.metrics.topologyMatchesReference.value_or(false)) << "K = " << target;
+    EXPECT_EQ(result.metrics.topology.boundaryLoops, 37) << "K = " << target;
+    EXPECT_GT(result.metrics.angleMin, 15.0) << "K = " << target;
+    EXPECT_LT(result.metrics.angleMax, 135.0) << "K = " << target;
+  }
+}
+
 TEST(PipelineRemesh, TubeKeepsItsTwoBoundaryLoopsOnTheInputBoundary) {
   const TriMesh tube = makeTube(0.5, 2.0, 64, 38);
   const RemeshResult result = remesh(toPolygonSoup(tube), quarterOf(tube.n_vertices()));
