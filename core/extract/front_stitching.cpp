@@ -489,7 +489,7 @@ void stitchFront(const BoundaryIndex& index, const std::vector<int>& inputLoopCo
                 side.total, zipped);
     if (!reusesAnEdge(zipped)) break;
   }
-  if (reusesAnEdge(zipped)) {  // neither is clean: the first, as the repair expects
+  if (reusesAnEdge(zipped)) {  // neither is clean: the first choice; the repair mends its folds
     zipped.clear();
     stitchStrip(out.positions, normals, sides.front().outer, sides.front().outerParam, rotated,
                 sides.front().frontParam, sides.front().total, zipped);
