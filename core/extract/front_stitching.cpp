@@ -254,6 +254,20 @@ struct BridgedStrip {
 /// The samples of each input loop along a front (vertex indices and arc positions).
 using SampledLoops = std::map<int, std::pair<std::vector<int>, std::vector<double>>>;
 
+/// The sample of loop i (arc positions `sampleArc`) nearest along the loop to arc position `at`;
+/// the lowest index among ties.
+std::size_t nearestSample(const BoundaryIndex& index, int i, const std::vector<double>& sampleArc,
+                          double at) {
+  const auto distance = [&](std::size_t sample) {
+    const double d = index.wrappedArc(i, sampleArc[sample] - at);
+    return std::min(d, index.loopLength(i) - d);
+  };
+  std::size_t nearest = 0;
+  for (std::size_t sample = 1; sample < sampleArc.size(); ++sample)
+    if (distance(sample) < distance(nearest)) nearest = sample;
+  return nearest;
+}
+
 /// The strip's outer side for a front whose runs walk a tree of bridges (`walksATree`). Each
 /// input loop is cut once between each two of its runs, half-way along the loop from the one's
 /// last front vertex to the next one's first (where the front turns to a neighbouring loop);
@@ -278,14 +292,7 @@ std::optional<BridgedStrip> bridgedAlongRuns(const BoundaryIndex& index,
     for (std::size_t k = 0; k < m; ++k) {
       const double exit = arc[runs[own[(k + m - 1) % m]].end - 1];
       const double entry = arc[runs[own[k]].begin];
-      const double at = exit + 0.5 * index.wrappedArc(i, entry - exit);
-      const auto distance = [&](std::size_t sample) {
-        const double d = index.wrappedArc(i, sampleArc[sample] - at);
-        return std::min(d, index.loopLength(i) - d);
-      };
-      cut[k] = 0;
-      for (std::size_t sample = 1; sample < size; ++sample)
-        if (distance(sample) < distance(cut[k])) cut[k] = sample;
+      cut[k] = nearestSample(index, i, sampleArc, exit + 0.5 * index.wrappedArc(i, entry - exit));
     }
     std::size_t steps = 0;  // the runs' samples tile the loop once when the cuts are in order
     for (std::size_t k = 0; k < m; ++k) steps += (cut[(k + 1) % m] + size - cut[k]) % size;
@@ -349,13 +356,7 @@ BridgedStrip chainedLoops(const BoundaryIndex& index, const std::vector<int>& la
     const double length = index.loopLength(i);
     const auto& [samples, sampleArc] = loops.at(i);
     const auto wrapped = [&](double d) { return index.wrappedArc(i, d); };
-    std::size_t first = 0;
-    for (std::size_t k = 1; k < samples.size(); ++k)
-      if (std::min(wrapped(sampleArc[k] - entryArc[o]),
-                   length - wrapped(sampleArc[k] - entryArc[o])) <
-          std::min(wrapped(sampleArc[first] - entryArc[o]),
-                   length - wrapped(sampleArc[first] - entryArc[o])))
-        first = k;
+    const std::size_t first = nearestSample(index, i, sampleArc, entryArc[o]);
     if (!strip.outer.empty())
       offset += (positions[strip.outer.back()] - positions[samples[first]]).norm();
     offsetAndStart[i] = {offset, sampleArc[first]};
@@ -477,24 +478,21 @@ void stitchFront(const BoundaryIndex& index, const std::vector<int>& inputLoopCo
   // more, else the loops walked whole; the other when the first folds the strip onto itself.
   const std::vector<FrontRun> runs = frontRuns(rotatedLabel);
   std::vector<BridgedStrip> sides;
-  const auto alongRuns = bridgedAlongRuns(index, runs, rotatedArc, loops, out.positions);
-  BridgedStrip whole = chainedLoops(index, rotatedLabel, rotatedArc, loops, out.positions);
-  if (alongRuns && loops.size() >= 3) sides.push_back(*alongRuns);
-  sides.push_back(std::move(whole));
-  if (alongRuns && loops.size() < 3) sides.push_back(*alongRuns);
-  std::vector<Triangle> zipped;
-  for (const BridgedStrip& side : sides) {
-    zipped.clear();
-    stitchStrip(out.positions, normals, side.outer, side.outerParam, rotated, side.frontParam,
-                side.total, zipped);
-    if (!reusesAnEdge(zipped)) break;
+  auto alongRuns = bridgedAlongRuns(index, runs, rotatedArc, loops, out.positions);
+  if (alongRuns && loops.size() >= 3) sides.push_back(std::move(*alongRuns)), alongRuns.reset();
+  sides.push_back(chainedLoops(index, rotatedLabel, rotatedArc, loops, out.positions));
+  if (alongRuns) sides.push_back(std::move(*alongRuns));
+  // When neither zip is clean, the first choice; the repair mends its folds.
+  std::vector<Triangle> chosen;
+  for (std::size_t k = 0; k < sides.size(); ++k) {
+    std::vector<Triangle> zipped;
+    stitchStrip(out.positions, normals, sides[k].outer, sides[k].outerParam, rotated,
+                sides[k].frontParam, sides[k].total, zipped);
+    const bool clean = !reusesAnEdge(zipped);
+    if (k == 0 || clean) chosen = std::move(zipped);
+    if (clean) break;
   }
-  if (reusesAnEdge(zipped)) {  // neither is clean: the first choice; the repair mends its folds
-    zipped.clear();
-    stitchStrip(out.positions, normals, sides.front().outer, sides.front().outerParam, rotated,
-                sides.front().frontParam, sides.front().total, zipped);
-  }
-  added.insert(added.end(), zipped.begin(), zipped.end());
+  added.insert(added.end(), chosen.begin(), chosen.end());
 }
 
 }  // namespace

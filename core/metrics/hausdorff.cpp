@@ -283,10 +283,20 @@ class SurfaceSampler {
       for (int l = k + 1; l < candidates.count; ++l) {
         const auto plane = separator(candidates.faces[k], candidates.faces[l]);
         if (!plane) continue;
-        Piece positive, negative;
         std::array<double, 6> side{};
+        int crossings = 0, above = 0, below = 0;
         for (int i = 0; i < piece.size; ++i)
           side[i] = plane->normal.dot(piece.points[i] - plane->origin);
+        for (int i = 0; i < piece.size; ++i) {
+          const double next = side[(i + 1) % piece.size];
+          crossings += (side[i] < 0.0 && next > 0.0) || (side[i] > 0.0 && next < 0.0) ? 1 : 0;
+          above += side[i] >= 0.0 ? 1 : 0;
+          below += side[i] <= 0.0 ? 1 : 0;
+        }
+        // A convex piece crosses a plane at most twice; signs that alternate more (a piece
+        // within rounding of the plane) would overflow the pieces: bounded without this cut.
+        if (std::max(above, below) + crossings > static_cast<int>(side.size())) continue;
+        Piece positive, negative;
         for (int i = 0; i < piece.size; ++i) {
           if (side[i] >= 0.0) positive.add(piece.points[i], piece.samples[i]);
           if (side[i] <= 0.0) negative.add(piece.points[i], piece.samples[i]);
