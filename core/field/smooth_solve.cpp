@@ -28,6 +28,8 @@ SmoothnessTerms smoothnessTerms(const TriMesh& mesh) {
     centroid[fh.idx()] = c / 3.0;
   }
   SmoothnessTerms terms;
+  terms.area.reserve(mesh.n_faces());
+  for (const auto fh : mesh.faces()) terms.area.push_back(mesh.calc_face_area(fh));
   for (const auto eh : mesh.edges()) {
     if (mesh.is_boundary(eh)) continue;
     const int f0 = eh.h0().face().idx(), f1 = eh.h1().face().idx();
@@ -120,27 +122,43 @@ std::vector<Complex> solveSmoothField(const SmoothnessTerms& terms,
                 "field: the smoothness system could not be factorized");
   Eigen::VectorXcd x = solver.solve(rhs);
 
-  if (anyFloating) {  // inverse power iteration on the floating groups only
+  if (anyFloating) {  // inverse power iteration L y ← M y on the floating groups only
+    std::vector<double> mass(m, 0.0);
+    for (int f = 0; f < nf; ++f)
+      if (unknown[f] >= 0) mass[unknown[f]] = terms.area[f];
     Eigen::VectorXcd y = Eigen::VectorXcd::Zero(m);
     for (int i = 0; i < m; ++i)
       if (!groupAnchored[findRoot(parent, i)]) y[i] = 1.0;
     std::vector<double> norm(m, 0.0);
     Eigen::VectorXcd previous = Eigen::VectorXcd::Zero(m);
     for (int iteration = 0; iteration < kPowerIterations; ++iteration) {
+      // Per group: yᴴ M y = 1.
       std::fill(norm.begin(), norm.end(), 0.0);
-      for (int i = 0; i < m; ++i) norm[findRoot(parent, i)] += std::norm(y[i]);
+      for (int i = 0; i < m; ++i) norm[findRoot(parent, i)] += mass[i] * std::norm(y[i]);
       for (int i = 0; i < m; ++i) {
         const double n2 = norm[findRoot(parent, i)];
         y[i] = n2 > 0.0 ? y[i] / std::sqrt(n2) : y[i];
       }
-      // A⁻¹ scales every eigencomponent by a positive number, so the normalized iterate settles
-      // (phase included) once the smallest eigenvector dominates.
-      if ((y - previous).squaredNorm() < kPowerTolerance * kPowerTolerance) break;
+      // (L⁻¹ M) scales every generalized eigencomponent by a positive number, so the
+      // normalized iterate settles (phase included) once the smallest eigenvector dominates;
+      // the change is measured in the norm of M, in which each group's iterate has norm 1.
+      double change = 0.0;
+      for (int i = 0; i < m; ++i) change += mass[i] * std::norm(y[i] - previous[i]);
+      if (change < kPowerTolerance * kPowerTolerance) break;
       previous = y;
+      for (int i = 0; i < m; ++i) y[i] *= mass[i];
       y = solver.solve(y);
     }
-    for (int i = 0; i < m; ++i)
-      if (!groupAnchored[findRoot(parent, i)]) x[i] = y[i];
+    // The phase is free: per group, the one that makes the plain sum of the iterate real and
+    // positive (see the header).
+    std::vector<Complex> sum(m, Complex(0.0, 0.0));
+    for (int i = 0; i < m; ++i) sum[findRoot(parent, i)] += y[i];
+    for (int i = 0; i < m; ++i) {
+      const int root = findRoot(parent, i);
+      if (groupAnchored[root]) continue;
+      const double magnitude = std::abs(sum[root]);
+      x[i] = magnitude > 0.0 ? y[i] * std::conj(sum[root]) / magnitude : y[i];
+    }
   }
   for (int f = 0; f < nf; ++f)
     if (unknown[f] >= 0) u[f] = x[unknown[f]];

@@ -8,8 +8,14 @@
 // complex sparse Cholesky (core/common/sparse_cholesky.h). A connected group of free faces that
 // touches no fixed face and has no soft constraint has only the trivial minimizer u = 0; it gets
 // the smoothest unit field instead:
-// the eigenvector of the smallest eigenvalue of L by inverse power iteration from a fixed start
-// vector (deterministic).
+// the eigenvector of the smallest eigenvalue of L u = λ M u (M: the face areas, so that the
+// field's norm is measured on the surface, not per face) by inverse power iteration from a
+// fixed start vector (deterministic). With M = I the iteration would favour |u| where faces are
+// many, and put the zeros (the singularities) where the mesh is coarse: a sphere whose
+// triangles are 20 times larger at one pole than at the other got all 12 there. Its phase,
+// which the energy leaves free, makes the plain sum Σ_f u_f real and positive: the phase that
+// the start vector (u_f = 1: along the first edge of each face) gives it without M, which keeps
+// the lattice of a mesh that is itself a lattice (the geodesic icosphere) on its edges.
 
 #include <complex>
 #include <vector>
@@ -25,6 +31,7 @@ struct SmoothnessTerms {
   std::vector<int> edge;          ///< per interior edge: its mesh edge index e
   std::vector<int> face0, face1;  ///< f0 = face(h0), f1 = face(h1)
   std::vector<double> weight;     ///< w_e = |e| / |c_f0 − c_f1| (clamped to [1e-3, 1e3])
+  std::vector<double> area;       ///< #F face areas (the mass matrix M)
   std::vector<int> faceOrder;     ///< #F faces in the dual graph's minimum-degree order
 };
 

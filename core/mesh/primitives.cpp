@@ -205,22 +205,28 @@ TriMesh makeCappedCylinder(double radius, double height, int around) {
   return mesh;
 }
 
-TriMesh makeUvSphere(double radius, int longitudes, int latitudes) {
+namespace {
+
+/// Latitude-longitude sphere: ring j (1 ≤ j < latitudes) at polar angle latitude(j), each point at
+/// distance radius(θ, φ) from the origin; the poles are vertices with fans of `longitudes` faces.
+template <typename Latitude, typename Radius>
+TriMesh latitudeLongitudeSphere(int longitudes, int latitudes, const Latitude& latitude,
+                                const Radius& radius) {
+  const auto at = [&](double theta, double phi) {
+    const double r = radius(theta, phi);
+    return point(r * std::sin(theta) * std::cos(phi), r * std::sin(theta) * std::sin(phi),
+                 r * std::cos(theta));
+  };
   TriMesh mesh;
-  const VH north = mesh.add_vertex(point(0.0, 0.0, radius));
+  const VH north = mesh.add_vertex(point(0.0, 0.0, radius(0.0, 0.0)));
   std::vector<std::vector<VH>> rings;
   for (int j = 1; j < latitudes; ++j) {
-    const double theta = M_PI * j / latitudes;
     std::vector<VH> ring;
-    for (int i = 0; i < longitudes; ++i) {
-      const double phi = 2.0 * M_PI * i / longitudes;
-      ring.push_back(mesh.add_vertex(point(radius * std::sin(theta) * std::cos(phi),
-                                           radius * std::sin(theta) * std::sin(phi),
-                                           radius * std::cos(theta))));
-    }
+    for (int i = 0; i < longitudes; ++i)
+      ring.push_back(mesh.add_vertex(at(latitude(j), 2.0 * M_PI * i / longitudes)));
     rings.push_back(std::move(ring));
   }
-  const VH south = mesh.add_vertex(point(0.0, 0.0, -radius));
+  const VH south = mesh.add_vertex(point(0.0, 0.0, -radius(M_PI, 0.0)));
   for (int i = 0; i < longitudes; ++i) {
     const int k = (i + 1) % longitudes;
     mesh.add_face(north, rings.front()[i], rings.front()[k]);
@@ -231,6 +237,26 @@ TriMesh makeUvSphere(double radius, int longitudes, int latitudes) {
     }
   }
   return mesh;
+}
+
+}  // namespace
+
+TriMesh makeUvSphere(double radius, int longitudes, int latitudes) {
+  return latitudeLongitudeSphere(
+      longitudes, latitudes, [&](int j) { return M_PI * j / latitudes; },
+      [&](double, double) { return radius; });
+}
+
+TriMesh makeGradedSphere(int longitudes, int latitudes, double bump) {
+  return latitudeLongitudeSphere(
+      longitudes, latitudes,
+      [&](int j) {
+        const double t = static_cast<double>(j) / latitudes;
+        return M_PI * t * t;
+      },
+      [&](double theta, double phi) {
+        return 1.0 + bump * std::sin(3.0 * theta) * std::cos(4.0 * phi);
+      });
 }
 
 TriMesh makeLBracket(double arm, double width, double thickness) {

@@ -40,6 +40,12 @@ TriMesh makeCappedCylinder(double radius, double height, int around);
 /// (graphics and CAD exporters write spheres so). χ = 2.
 TriMesh makeUvSphere(double radius, int longitudes, int latitudes);
 
+/// A unit latitude-longitude sphere whose latitudes θ_j = π (j / latitudes)² crowd at the north
+/// pole (its triangles there are ~100 times smaller than at the south pole: a mesh refined in one
+/// place); with `bump` the radius is 1 + bump · sin 3θ · cos 4φ, whose curvature lines run along
+/// the meridians and parallels. χ = 2.
+TriMesh makeGradedSphere(int longitudes, int latitudes, double bump = 0.0);
+
 /// L-shaped bracket as CAD exporters write it: the outline (0,0), (arm,0), (arm,width),
 /// (width,width), (width,arm), (0,arm) extruded by `thickness` along z, each cap a fan from the
 /// inner corner, each side one quad of the full height. 12 vertices; 18 creases of 90° (270° at

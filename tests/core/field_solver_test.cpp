@@ -10,6 +10,7 @@
 #include <cstring>
 #include <limits>
 #include <optional>
+#include <vector>
 
 #include "core/common/error.h"
 #include "core/field/clustering.h"
@@ -458,6 +459,42 @@ TEST(FieldSolver, NeedleVerticesLeaveNoClustersOnFeline) {
     }
   }
   EXPECT_EQ(closeMergeablePairs(mesh, field, kMergedIndexForLattice), 0);
+}
+
+TEST(FieldSolver, TheSmoothestFieldOfAGradedSphereKeepsItsSingularitiesApart) {
+  // Without constraints the field is the smallest eigenvector of L u = λ M u. With M = I it put
+  // all 12 singularities within 0.3 of the coarse south pole, where faces are few.
+  const TriMesh sphere = makeGradedSphere(60, 40);
+  FieldOptions options;
+  options.maxMergedIndex = kMergedIndexForLattice;
+  const RosyField field = computeRosyField(sphere, options);
+  ASSERT_EQ(indexSum(field), 12);
+  int south = 0;
+  for (const auto& s : field.singularities) south += s.position.z() < 0.0 ? 1 : 0;
+  EXPECT_GE(south, 4);
+  EXPECT_LE(south, 8);
+}
+
+TEST(FieldSolver, LikeSignedSingularitiesAFractionOfAnEdgeApartAreSplitApart) {
+  // The curvature lines of this bumpy sphere run along its meridians: the field has index +1 at
+  // each pole. The dense north pole resolves it as six +1/6 zeros within 0.002 of each other,
+  // which no lattice realizes (a cone of 2π: the lattice units shrank tenfold towards it);
+  // they are one node of index 6, split around the pole as on a cylinder's cap.
+  const TriMesh sphere = makeGradedSphere(120, 80, 0.1);
+  const double h = 0.1;
+  FieldOptions options;  // as for a parameterization with edge length h
+  options.maxMergedIndex = kMergedIndexForLattice;
+  options.singularityDistance = kSingularityDistanceInEdges * h;
+  const RosyField field = computeRosyField(sphere, options);
+  ASSERT_EQ(indexSum(field), 12);
+  for (const auto& s : field.singularities) {
+    EXPECT_EQ(s.index, 1) << "vertex " << s.vertex;
+    for (const auto& t : field.singularities)
+      if (&s != &t) {
+        EXPECT_GT((s.position - t.position).norm(), h / 2)
+            << "vertices " << s.vertex << " and " << t.vertex;
+      }
+  }
 }
 
 }  // namespace
