@@ -238,11 +238,14 @@ constexpr int kCoincidentMinIndex = 3;
 /// node of that index on the member nearest the others (least Σ squared distances; ties: the
 /// lower vertex). A mesh much finer in one place than in another resolves the zeros of the
 /// smoothest field there as separate nodes a fraction of an edge apart (six +1/6 at the dense
-/// pole of a graded sphere), where a uniform mesh has one node of high order. The replaced
-/// nodes' vertices are appended to `replaced`.
+/// pole of a graded sphere), where a uniform mesh has one node of high order. A group stays
+/// apart when the angle defects within `reach` of its first node carry at least half of its
+/// index (N Σ K_v / 2π). The replaced nodes' vertices are appended to `replaced`.
 std::vector<ClusterNode> mergeCoincidentNodes(const TriMesh& mesh, GeodesicBall& ball,
-                                              const std::vector<ClusterNode>& nodes, double radius,
-                                              int minIndex, std::vector<int>& replaced) {
+                                              const std::vector<ClusterNode>& nodes,
+                                              const std::vector<double>& angleDefect, int n,
+                                              double radius, double reach, int minIndex,
+                                              std::vector<int>& replaced) {
   const auto position = [&](int k) {
     return toEigen(mesh.point(OpenMesh::VertexHandle(nodes[k].vertex)));
   };
@@ -265,6 +268,13 @@ std::vector<ClusterNode> mergeCoincidentNodes(const TriMesh& mesh, GeodesicBall&
     int index = 0;
     for (const int j : members) index += nodes[j].index;
     if (members.size() < 2 || std::abs(index) < minIndex) continue;
+    // Where the Gauss curvature within `reach` carries half of the index or more (the tip of an
+    // elongated ellipsoid), the zeros sit where the surface turns: they stay.
+    double curvature = 0.0;
+    for (const int w : ball.grow(nodes[k].vertex, reach)) curvature += angleDefect[w];
+    if (2.0 * std::abs(n * curvature / (2.0 * M_PI)) >= std::abs(index) &&
+        (curvature > 0.0) == (index > 0))
+      continue;
     const auto spread = [&](int a) {
       double sum = 0.0;
       for (const int j : members) sum += (position(a) - position(j)).squaredNorm();
@@ -294,8 +304,8 @@ ClusteringResult splitHighOrderNodes(const TriMesh& mesh, const EdgeGraph& graph
   const auto position = [&](int v) { return toEigen(mesh.point(OpenMesh::VertexHandle(v))); };
   GeodesicBall ball(graph);
   const std::vector<ClusterNode> merged =
-      mergeCoincidentNodes(mesh, ball, nodes, kCoincidentFraction * dSing, kCoincidentMinIndex,
-                           result.collapsedVertices);
+      mergeCoincidentNodes(mesh, ball, nodes, angleDefect, n, kCoincidentFraction * dSing,
+                           0.5 * dSing, kCoincidentMinIndex, result.collapsedVertices);
   std::vector<char> taken(graph.vertices(), 0);
   for (const auto& node : merged) taken[node.vertex] = 1;
   for (const auto& node : merged) {
