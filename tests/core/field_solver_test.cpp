@@ -92,6 +92,14 @@ TEST(FieldSolver, IndexSumsEqualEulerCharacteristicOnGeneratedMeshes) {
   }
 }
 
+/// The clustering options of a field for a parameterization with edge length h.
+FieldOptions latticeFieldOptions(double h) {
+  FieldOptions options;
+  options.maxMergedIndex = kMergedIndexForLattice;
+  options.singularityDistance = kSingularityDistanceInEdges * h;
+  return options;
+}
+
 TEST(FieldSolver, IcosphereFieldHasTwelvePositiveFirstOrderSingularities) {
   // All points are umbilic (no directional constraints); the smoothest 6-RoSy field on a sphere
   // with icosahedral symmetry puts a +1/6 singularity at each of the 12 valence-5 vertices.
@@ -482,10 +490,7 @@ TEST(FieldSolver, LikeSignedSingularitiesAFractionOfAnEdgeApartAreSplitApart) {
   // they are one node of index 6, split around the pole as on a cylinder's cap.
   const TriMesh sphere = makeGradedSphere(120, 80, 0.1);
   const double h = 0.1;
-  FieldOptions options;  // as for a parameterization with edge length h
-  options.maxMergedIndex = kMergedIndexForLattice;
-  options.singularityDistance = kSingularityDistanceInEdges * h;
-  const RosyField field = computeRosyField(sphere, options);
+  const RosyField field = computeRosyField(sphere, latticeFieldOptions(h));
   ASSERT_EQ(indexSum(field), 12);
   for (const auto& s : field.singularities) {
     EXPECT_EQ(s.index, 1) << "vertex " << s.vertex;
@@ -507,11 +512,7 @@ TEST(FieldSolver, SingularitiesAtTheTipsOfAnElongatedEllipsoidStayThere) {
     p[0] *= 8.0;
     ellipsoid.set_point(v, p);
   }
-  const double h = 0.5;
-  FieldOptions options;  // as for a parameterization with edge length h
-  options.maxMergedIndex = kMergedIndexForLattice;
-  options.singularityDistance = kSingularityDistanceInEdges * h;
-  const RosyField field = computeRosyField(ellipsoid, options);
+  const RosyField field = computeRosyField(ellipsoid, latticeFieldOptions(0.5));
   ASSERT_EQ(indexSum(field), 12);
   for (const auto& s : field.singularities) EXPECT_GT(std::abs(s.position.x()), 7.5);
 }
