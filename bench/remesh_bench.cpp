@@ -7,7 +7,8 @@
 // --only stanford-bunny --subdivide 2 --quarter-only --runs 1, 1.1M faces). --generated remeshes
 // shapes tessellated as CAD exporters write them instead (core/mesh/primitives.h: a cylinder with
 // fans of slivers for caps, a latitude-longitude sphere, a box of 12 triangles, an L-bracket and
-// a plate with a hole, their faces fanned) at K = 300 and
+// a plate with a hole, their faces fanned; and two spheres refined towards one pole, one smooth
+// and one bumpy, makeGradedSphere) at K = 300 and
 // 3000. --rosy 4 remeshes into quads (the angles are then the quads' corners, the irregular
 // vertices those of valence other than 4). The "repair s" column includes the refinement before
 // the field. The peak memory is the process's over a row's runs (VmHWM reset before each row,
@@ -132,6 +133,11 @@ int main(int argc, char** argv) {
     inputs.push_back({"L-bracket", toPolygonSoup(makeLBracket(2.0, 0.5, 0.4)), {}});
     inputs.push_back(
         {"plate with a hole", toPolygonSoup(makePlateWithHole(2.0, 0.5, 0.2, 48)), {}});
+    inputs.push_back(
+        {"sphere refined towards a pole 120x80", toPolygonSoup(makeGradedSphere(120, 80)), {}});
+    inputs.push_back({"bumpy sphere refined towards a pole 120x80",
+                      toPolygonSoup(makeGradedSphere(120, 80, 0.1)),
+                      {}});
     for (auto& input : inputs) input.targets = {300, 3000};
   } else {
     const std::filesystem::path dir = std::filesystem::path(HEXCOVER_SHARED_MESHES) / "clean";
