@@ -563,6 +563,23 @@ TEST(PipelineRemesh, RemeshesASphereRefinedAtOnePoleAsEvenlyAsAUniformOne) {
   EXPECT_LT(result.metrics.distance->hausdorffPct, 0.5);
 }
 
+TEST(PipelineRemesh, RemeshesABumpySphereRefinedAtOnePoleWithoutAConeAtThePole) {
+  // Its curvature lines run along the meridians, so the field has index +1 at each pole; the
+  // dense pole resolved it as six +1/6 within 0.002 of each other, a cone of 2π towards which
+  // the lattice units shrank tenfold (angle SD 14.5° at K = 1000).
+  const PolygonSoup sphere = toPolygonSoup(makeGradedSphere(120, 80, 0.1));
+  RemeshOptions options;
+  options.targetVertices = 1000;
+  const RemeshResult result = remesh(sphere, options);
+  EXPECT_TRUE(result.metrics.topologyMatchesReference.value_or(false));
+  EXPECT_NEAR(static_cast<double>(result.remesh.triangles.n_vertices()), 1000.0, 100.0);
+  EXPECT_EQ(result.metrics.irregularInterior, 12);
+  EXPECT_LE(result.metrics.angleSd, 5.0);
+  EXPECT_GE(result.metrics.angleMin, 30.0);
+  EXPECT_LE(result.metrics.angleMax, 100.0);
+  EXPECT_LT(result.metrics.distance->hausdorffPct, 0.6);
+}
+
 TEST(PipelineRemesh, TargetVertexCountIsMetWithinTenPercent) {
   const PolygonSoup sphere = toPolygonSoup(makeIcosphere(4));
   for (const long long target : {300LL, 1500LL}) {
