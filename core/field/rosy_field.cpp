@@ -184,7 +184,8 @@ void resolveRegion(const TriMesh& mesh, const field::FieldGeometry& geometry,
   for (std::size_t e = 0; e < freeEdges.size(); ++e)
     if (freeEdges[e]) state.matchingShift[e] = state.corrections[e];
   state.changed = region.free;
-  state.u = field::solveSmoothField(inputs.terms, geometry.transport, state.corrections, n, region);
+  state.u = field::solveSmoothField(inputs.terms, geometry.transport, state.corrections,
+                                    geometry.frames.area, n, region);
 }
 
 }  // namespace
@@ -329,7 +330,8 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
 
   step(0.3);
   const std::vector<Complex> initial = timed(timings, "initial_solve", [&] {
-    return field::solveSmoothField(terms, geometry.transport, initialCorrections, n, input);
+    return field::solveSmoothField(terms, geometry.transport, initialCorrections,
+                                   geometry.frames.area, n, input);
   });
   RosyField initialField = timed(timings, "initial_singularities", [&] {
     return field::rosyFieldFromAngles(mesh, geometry, anglesOf(initial, n), n);

@@ -28,8 +28,6 @@ SmoothnessTerms smoothnessTerms(const TriMesh& mesh) {
     centroid[fh.idx()] = c / 3.0;
   }
   SmoothnessTerms terms;
-  terms.area.reserve(mesh.n_faces());
-  for (const auto fh : mesh.faces()) terms.area.push_back(mesh.calc_face_area(fh));
   for (const auto eh : mesh.edges()) {
     if (mesh.is_boundary(eh)) continue;
     const int f0 = eh.h0().face().idx(), f1 = eh.h1().face().idx();
@@ -50,7 +48,8 @@ SmoothnessTerms smoothnessTerms(const TriMesh& mesh) {
 
 std::vector<Complex> solveSmoothField(const SmoothnessTerms& terms,
                                       const std::vector<double>& transport,
-                                      const std::vector<double>& corrections, int n,
+                                      const std::vector<double>& corrections,
+                                      const std::vector<double>& faceArea, int n,
                                       const SmoothSolveInput& input) {
   const int nf = static_cast<int>(input.free.size());
   std::vector<int> unknown(nf, -1);
@@ -125,7 +124,7 @@ std::vector<Complex> solveSmoothField(const SmoothnessTerms& terms,
   if (anyFloating) {  // inverse power iteration L y ← M y on the floating groups only
     std::vector<double> mass(m, 0.0);
     for (int f = 0; f < nf; ++f)
-      if (unknown[f] >= 0) mass[unknown[f]] = terms.area[f];
+      if (unknown[f] >= 0) mass[unknown[f]] = faceArea[f];
     Eigen::VectorXcd y = Eigen::VectorXcd::Zero(m);
     for (int i = 0; i < m; ++i)
       if (!groupAnchored[findRoot(parent, i)]) y[i] = 1.0;

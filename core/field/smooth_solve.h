@@ -31,7 +31,6 @@ struct SmoothnessTerms {
   std::vector<int> edge;          ///< per interior edge: its mesh edge index e
   std::vector<int> face0, face1;  ///< f0 = face(h0), f1 = face(h1)
   std::vector<double> weight;     ///< w_e = |e| / |c_f0 − c_f1| (clamped to [1e-3, 1e3])
-  std::vector<double> area;       ///< #F face areas (the mass matrix M)
   std::vector<int> faceOrder;     ///< #F faces in the dual graph's minimum-degree order
 };
 
@@ -46,11 +45,13 @@ struct SmoothSolveInput {
 };
 
 /// Minimizer u (#F; fixed faces keep their values) for the transport angles ρ + c (#E each) and
-/// symmetry order n; r_e is evaluated only on the edges at a free face. Throws
+/// symmetry order n; r_e is evaluated only on the edges at a free face. `faceArea` (#F, e.g.
+/// FaceFrames::area) is the mass matrix M of a floating group's eigenproblem. Throws
 /// Error(NumericalFailure) when the factorization fails.
 std::vector<Complex> solveSmoothField(const SmoothnessTerms& terms,
                                       const std::vector<double>& transport,
-                                      const std::vector<double>& corrections, int n,
+                                      const std::vector<double>& corrections,
+                                      const std::vector<double>& faceArea, int n,
                                       const SmoothSolveInput& input);
 
 }  // namespace hexcover::field
