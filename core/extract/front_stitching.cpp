@@ -268,6 +268,38 @@ std::size_t nearestSample(const BoundaryIndex& index, int i, const std::vector<d
   return nearest;
 }
 
+/// Appends samples from, from + 1, ..., from + steps of loop i (around the loop) to the strip's
+/// outer side, after a bridge from its last vertex; a whole loop (steps = its sample count) ends
+/// at its first sample again, at the loop's length. Returns the outer parameter of the first.
+double appendLoopSamples(const BoundaryIndex& index, int i, const SampledLoops& loops,
+                         std::size_t from, std::size_t steps,
+                         const std::vector<Eigen::Vector3d>& positions, BridgedStrip& strip) {
+  const auto& [samples, sampleArc] = loops.at(i);
+  const std::size_t size = samples.size();
+  const double start = strip.outer.empty()
+                           ? 0.0
+                           : strip.outerParam.back() +
+                                 (positions[strip.outer.back()] - positions[samples[from]]).norm();
+  for (std::size_t t = 0; t <= steps; ++t) {
+    const std::size_t at = (from + t) % size;
+    strip.outer.push_back(samples[at]);
+    strip.outerParam.push_back(
+        start +
+        (t == size ? index.loopLength(i) : index.wrappedArc(i, sampleArc[at] - sampleArc[from])));
+  }
+  return start;
+}
+
+/// The outer parameter of a front vertex at arc position `arc` on loop i, whose samples on the
+/// outer side start at arc position `startArc` and parameter `start`: a vertex more than `behind`
+/// ahead along the loop sits a little before the start.
+double frontParameter(const BoundaryIndex& index, int i, double arc, double startArc, double start,
+                      double behind) {
+  double d = index.wrappedArc(i, arc - startArc);
+  if (d > behind) d -= index.loopLength(i);
+  return start + d;
+}
+
 /// The strip's outer side for a front whose runs walk a tree of bridges (`walksATree`). Each
 /// input loop is cut once between each two of its runs, half-way along the loop from the one's
 /// last front vertex to the next one's first (where the front turns to a neighbouring loop);
@@ -302,37 +334,23 @@ std::optional<BridgedStrip> bridgedAlongRuns(const BoundaryIndex& index,
 
   BridgedStrip strip;
   strip.frontParam.resize(arc.size());
-  double offset = 0.0;
   for (std::size_t r = 0; r < runs.size(); ++r) {
     const int i = runs[r].loop;
-    const auto& [samples, sampleArc] = loops.at(i);
-    const std::size_t size = samples.size();
+    const std::size_t size = loops.at(i).first.size();
     const bool whole = runsOf.at(i).size() == 1;
     const std::size_t steps = whole ? size : (to[r] + size - from[r]) % size;
     const double length = index.loopLength(i);
-    const double startArc = sampleArc[from[r]];
-    if (!strip.outer.empty())
-      offset += (positions[strip.outer.back()] - positions[samples[from[r]]]).norm();
-    const double runOffset = offset;
-    for (std::size_t t = 0; t <= steps; ++t) {
-      const std::size_t at = (from[r] + t) % size;
-      strip.outer.push_back(samples[at]);
-      strip.outerParam.push_back(runOffset + (whole && t == steps
-                                                  ? length
-                                                  : index.wrappedArc(i, sampleArc[at] - startArc)));
-    }
-    offset = strip.outerParam.back();
+    const double start = appendLoopSamples(index, i, loops, from[r], steps, positions, strip);
     // A front vertex a little before the run's first sample (closer to it, behind, than to the
     // run's end, ahead) sits before it.
-    const double span = offset - runOffset;
+    const double span = strip.outerParam.back() - start;
     const double behind = whole ? 0.75 * length : span + 0.5 * (length - span);
-    for (std::size_t k = runs[r].begin; k < runs[r].end; ++k) {
-      double d = index.wrappedArc(i, arc[k] - startArc);
-      if (d > behind) d -= length;
-      strip.frontParam[k] = runOffset + d;
-    }
+    const double startArc = loops.at(i).second[from[r]];
+    for (std::size_t k = runs[r].begin; k < runs[r].end; ++k)
+      strip.frontParam[k] = frontParameter(index, i, arc[k], startArc, start, behind);
   }
-  strip.total = offset + (positions[strip.outer.back()] - positions[strip.outer.front()]).norm();
+  strip.total = strip.outerParam.back() +
+                (positions[strip.outer.back()] - positions[strip.outer.front()]).norm();
   return strip;
 }
 
@@ -350,27 +368,18 @@ BridgedStrip chainedLoops(const BoundaryIndex& index, const std::vector<int>& la
   BridgedStrip strip;
   std::map<int, std::pair<double, double>> offsetAndStart;  // loop -> (offset, start arc)
   std::vector<int> bridgeEnds;  // per loop in `order`: its first sample, where its bridge ends
-  double offset = 0.0;
   for (std::size_t o = 0; o < order.size(); ++o) {
     const int i = order[o];
-    const double length = index.loopLength(i);
     const auto& [samples, sampleArc] = loops.at(i);
-    const auto wrapped = [&](double d) { return index.wrappedArc(i, d); };
     const std::size_t first = nearestSample(index, i, sampleArc, entryArc[o]);
-    if (!strip.outer.empty())
-      offset += (positions[strip.outer.back()] - positions[samples[first]]).norm();
-    offsetAndStart[i] = {offset, sampleArc[first]};
-    for (std::size_t k = 0; k <= samples.size(); ++k) {
-      const std::size_t at = (first + k) % samples.size();
-      strip.outer.push_back(samples[at]);
-      strip.outerParam.push_back(
-          offset + (k == samples.size() ? length : wrapped(sampleArc[at] - sampleArc[first])));
-    }
-    offset = strip.outerParam.back();
+    offsetAndStart[i] = {
+        appendLoopSamples(index, i, loops, first, samples.size(), positions, strip),
+        sampleArc[first]};
     bridgeEnds.push_back(samples[first]);
   }
   // Back along the bridges to the first loop (with only the chain's forward bridges and the
   // closing edge from the last loop to the first, three or more loops would join into one).
+  double offset = strip.outerParam.back();
   for (std::size_t o = bridgeEnds.size() - 1; o-- > 1;) {
     offset += (positions[strip.outer.back()] - positions[bridgeEnds[o]]).norm();
     strip.outer.push_back(bridgeEnds[o]);
@@ -379,11 +388,10 @@ BridgedStrip chainedLoops(const BoundaryIndex& index, const std::vector<int>& la
   strip.total = offset + (positions[strip.outer.back()] - positions[strip.outer.front()]).norm();
   strip.frontParam.resize(label.size());
   for (std::size_t k = 0; k < label.size(); ++k) {
-    const auto [base, startArc] = offsetAndStart.at(label[k]);
-    const double length = index.loopLength(label[k]);
-    double d = index.wrappedArc(label[k], arc[k] - startArc);
-    if (d > 0.75 * length) d -= length;  // just before the piece's first sample
-    strip.frontParam[k] = base + d;
+    const auto [start, startArc] = offsetAndStart.at(label[k]);
+    // Just before the loop's first sample.
+    strip.frontParam[k] =
+        frontParameter(index, label[k], arc[k], startArc, start, 0.75 * index.loopLength(label[k]));
   }
   return strip;
 }
