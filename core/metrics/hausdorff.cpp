@@ -171,12 +171,8 @@ class SurfaceSampler {
   /// centroid: for a fixed triangle T, d(·, T) is convex, so its maximum over a convex piece of
   /// the cell is at one of the piece's corners. This is min over T ∈ C of max_i d(corner_i, T).
   double bound(const Cell& cell) const {
-    const Candidates candidates = closestTriangles(cell);
-    const Piece piece = whole(cell);
-    double best = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < candidates.count; ++k)
-      best = std::min(best, pieceBound(piece, candidates.faces[k], best));
-    return best;
+    return lowestPieceBound(whole(cell), closestTriangles(cell),
+                            std::numeric_limits<double>::infinity());
   }
 
   /// The cell's bound lowered by cutting it into pieces with planes that separate the triangles
@@ -274,6 +270,14 @@ class SurfaceSampler {
     return worst;
   }
 
+  /// min over the candidates T of pieceBound(piece, T), at most `cap`.
+  double lowestPieceBound(const Piece& piece, const Candidates& candidates, double cap) const {
+    double best = cap;
+    for (int k = 0; k < candidates.count; ++k)
+      best = std::min(best, pieceBound(piece, candidates.faces[k], best));
+    return best;
+  }
+
   /// Cuts the piece by the separator of the first two candidates that have one; the positive
   /// side keeps all but the second, the negative side all but the first, recursively. A piece
   /// left with one candidate, or with none that separate, is bounded by `pieceBound`.
@@ -284,12 +288,16 @@ class SurfaceSampler {
         const auto plane = separator(candidates.faces[k], candidates.faces[l]);
         if (!plane) continue;
         std::array<double, 6> side{};
-        int crossings = 0, above = 0, below = 0;
         for (int i = 0; i < piece.size; ++i)
           side[i] = plane->normal.dot(piece.points[i] - plane->origin);
-        for (int i = 0; i < piece.size; ++i) {
+        // The edge from corner i to the next crosses the plane strictly.
+        const auto crosses = [&](int i) {
           const double next = side[(i + 1) % piece.size];
-          crossings += (side[i] < 0.0 && next > 0.0) || (side[i] > 0.0 && next < 0.0) ? 1 : 0;
+          return (side[i] < 0.0 && next > 0.0) || (side[i] > 0.0 && next < 0.0);
+        };
+        int crossings = 0, above = 0, below = 0;
+        for (int i = 0; i < piece.size; ++i) {
+          crossings += crosses(i) ? 1 : 0;
           above += side[i] >= 0.0 ? 1 : 0;
           below += side[i] <= 0.0 ? 1 : 0;
         }
@@ -301,7 +309,7 @@ class SurfaceSampler {
           if (side[i] >= 0.0) positive.add(piece.points[i], piece.samples[i]);
           if (side[i] <= 0.0) negative.add(piece.points[i], piece.samples[i]);
           const int j = (i + 1) % piece.size;
-          if ((side[i] < 0.0 && side[j] > 0.0) || (side[i] > 0.0 && side[j] < 0.0)) {
+          if (crosses(i)) {
             const Vec3 crossing = piece.points[i] + side[i] / (side[i] - side[j]) *
                                                         (piece.points[j] - piece.points[i]);
             positive.add(crossing, -1);
@@ -312,10 +320,7 @@ class SurfaceSampler {
         if (worst >= cap) return cap;
         return std::max(worst, splitBound(negative, candidates.without(k), cap));
       }
-    double best = cap;
-    for (int k = 0; k < candidates.count; ++k)
-      best = std::min(best, pieceBound(piece, candidates.faces[k], best));
-    return best;
+    return lowestPieceBound(piece, candidates, cap);
   }
 
   int midpoint(int a, int b) {
