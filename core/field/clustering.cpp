@@ -275,14 +275,14 @@ std::vector<ClusterNode> mergeCoincidentNodes(const TriMesh& mesh, GeodesicBall&
     if (2.0 * std::abs(n * curvature / (2.0 * M_PI)) >= std::abs(index) &&
         (curvature > 0.0) == (index > 0))
       continue;
-    const auto spread = [&](int a) {
+    // (Σ squared distances to the others, vertex) of each member; the least is the centre.
+    std::vector<std::pair<double, int>> spread;
+    for (const int a : members) {
       double sum = 0.0;
       for (const int j : members) sum += (position(a) - position(j)).squaredNorm();
-      return std::pair{sum, nodes[a].vertex};
-    };
-    const int centre = *std::min_element(members.begin(), members.end(),
-                                         [&](int a, int b) { return spread(a) < spread(b); });
-    result.push_back({nodes[centre].vertex, index});
+      spread.emplace_back(sum, nodes[a].vertex);
+    }
+    result.push_back({std::min_element(spread.begin(), spread.end())->second, index});
     for (const int j : members) {
       mergedAway[j] = 1;
       replaced.push_back(nodes[j].vertex);
