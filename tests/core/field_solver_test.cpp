@@ -469,7 +469,7 @@ TEST(FieldSolver, NeedleVerticesLeaveNoClustersOnFeline) {
   EXPECT_EQ(closeMergeablePairs(mesh, field, kMergedIndexForLattice), 0);
 }
 
-TEST(FieldSolver, TheSmoothestFieldOfAGradedSphereKeepsItsSingularitiesApart) {
+TEST(FieldSolver, TheSmoothestFieldOfAGradedSphereSpreadsItsSingularitiesOverBothHemispheres) {
   // Without constraints the field is the smallest eigenvector of L u = λ M u. With M = I it put
   // all 12 singularities within 0.3 of the coarse south pole, where faces are few.
   const TriMesh sphere = makeGradedSphere(60, 40);
