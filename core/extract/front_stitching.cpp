@@ -52,8 +52,11 @@ constexpr int kCornerSpread = 2;
 /// kOwnSampleCornerAngle.
 constexpr double kCornerReach = 0.5;
 /// A boundary corner that turns by more than this many degrees gets a sample of its own when no
-/// free sample is within kCornerReach spacings (at the price of a valence-7 front vertex).
+/// free sample is within kCornerReach spacings (at the price of a valence-7 front vertex), and
+/// for triangles so does a blunter one that the chord between the samples around it would cut
+/// off by more than kOwnSampleCornerCut spacings.
 constexpr double kOwnSampleCornerAngle = 80.0;
+constexpr double kOwnSampleCornerCut = 0.5;
 
 /// Stitches a front to its single input loop so that every front vertex gets valence 6 (paper
 /// 5.2: irregular vertices only at singularities). A front vertex with a = latticeValence lattice
@@ -134,13 +137,20 @@ bool stitchFrontByValence(const BoundaryIndex& index, int loop, int component,
       next = nearest + 1;
       continue;
     }
-    // No free sample within kCornerReach spacings: a corner sharper than kOwnSampleCornerAngle
-    // gets a sample of its own, in the fan of the front vertex whose samples bracket it, which
-    // then has valence 7 (a square plate at h = 0.1 lost two of its corners: 3.2% Hausdorff
-    // distance); a blunter one is not resolved at this edge length.
-    if (!(turn > kOwnSampleCornerAngle)) continue;
+    // No free sample within kCornerReach spacings: a corner sharper than kOwnSampleCornerAngle,
+    // or one that the chord between the samples around it would cut off by more than
+    // kOwnSampleCornerCut spacings, gets a sample of its own, in the fan of the front vertex
+    // whose samples bracket it, which then has valence 7 (a square plate at h = 0.1 lost two of
+    // its corners: 3.2% Hausdorff distance; camelhead turned by 0.6-2.4 rad about y lost a
+    // corner of 77° at its neck, cut off by 0.55 spacings: 1.05%); a blunter, shallower one is
+    // not resolved at this edge length. (For squares the cut rule gave the Stanford bunny's
+    // strip at K = V/4 a corner of 155° where the largest was 134°: only the angle rule.)
     const int atIndex = static_cast<int>(
         std::upper_bound(arc.begin() + std::max(next, 1), arc.begin() + m, at) - arc.begin());
+    if (!(turn > kOwnSampleCornerAngle) &&
+        (squares || !(index.farthestFromChord(loop, arc[atIndex - 1], arc[atIndex]).distance >
+                      kOwnSampleCornerCut * spacing)))
+      continue;
     arc.insert(arc.begin() + atIndex, at);
     corner.insert(corner.begin() + atIndex, true);
     shift.insert(shift.begin() + atIndex, 0.0);

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -175,6 +176,60 @@ TEST(PipelineRemesh, KeepsEveryCornerOfASquarePlate) {
   EXPECT_LT(result.metrics.distance->hausdorffPct, 1e-6);
   EXPECT_TRUE(result.metrics.topologyMatchesReference.value_or(false));
   EXPECT_GE(result.metrics.angleMin, 20.0);
+}
+
+// A flat convex polygon as a fan of triangles from its centroid, each split into n² triangles.
+PolygonSoup subdividedFan(const std::vector<Eigen::Vector2d>& polygon, int n) {
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  for (const auto& p : polygon) centre += p / static_cast<double>(polygon.size());
+  PolygonSoup soup;
+  std::map<std::pair<long long, long long>, std::uint32_t> index;  // by position in 1e-9 units
+  const auto vertex = [&](const Eigen::Vector2d& p) {
+    const auto key = std::make_pair(std::llround(p.x() * 1e9), std::llround(p.y() * 1e9));
+    const auto [it, added] = index.emplace(key, static_cast<std::uint32_t>(soup.positions.size()));
+    if (added) soup.positions.emplace_back(p.x(), p.y(), 0.0);
+    return it->second;
+  };
+  for (std::size_t k = 0; k < polygon.size(); ++k) {
+    const Eigen::Vector2d u = (polygon[k] - centre) / n;
+    const Eigen::Vector2d w = (polygon[(k + 1) % polygon.size()] - centre) / n;
+    const auto at = [&](int i, int j) { return vertex(centre + i * u + j * w); };
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; i + j < n; ++j) {
+        soup.addFace(std::array<std::uint32_t, 3>{at(i, j), at(i + 1, j), at(i, j + 1)});
+        if (i + j + 1 < n)
+          soup.addFace(std::array<std::uint32_t, 3>{at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+      }
+  }
+  return soup;
+}
+
+// A flat rhombus of side 1 with corners of 105° and 75° (the loop turns by 75° and by 105°) at
+// h = 0.16-0.185: the strip's samples fell more than half a spacing from both 105° corners, which
+// turn by less than the 80° that gets a corner its own sample, and the chords between them cut
+// those corners off by 0.7-0.85 spacings (Hausdorff 4.3-5.3%). A corner cut off by more than
+// half a spacing now gets a sample of its own.
+TEST(PipelineRemesh, KeepsTheBluntCornersOfARhombusPlate) {
+  const double angle = 105.0 * M_PI / 180.0;
+  const Eigen::Vector2d side(1.0, 0.0), slant(std::cos(angle), std::sin(angle));
+  const std::vector<Eigen::Vector2d> rhombus{Eigen::Vector2d::Zero(), side, side + slant, slant};
+  const PolygonSoup plate = subdividedFan(rhombus, 16);
+  for (const double h : {0.16, 0.175}) {
+    RemeshOptions options;
+    options.edgeLength = h;
+    const RemeshResult result = remesh(plate, options);
+    const TriMesh& out = result.remesh.triangles;
+    for (const Eigen::Vector2d& corner : rhombus) {
+      double nearest = 1e300;
+      for (const auto v : out.vertices())
+        nearest = std::min(nearest, (toEigen(out.point(v)).head<2>() - corner).norm());
+      EXPECT_LT(nearest, 1e-9) << "h = " << h << ", corner (" << corner.x() << ", " << corner.y()
+                               << ")";
+    }
+    ASSERT_TRUE(result.metrics.distance.has_value());
+    EXPECT_LT(result.metrics.distance->hausdorffPct, 1e-6) << "h = " << h;
+    EXPECT_TRUE(result.metrics.topologyMatchesReference.value_or(false)) << "h = " << h;
+  }
 }
 
 // A flat unit square of 60 × 60 cells with three holes of 2 × 2 cells in a row, one cell apart:
