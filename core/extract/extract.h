@@ -33,12 +33,13 @@
 //    the lattice front is triangulated, so the output boundary lies on the input boundary. The
 //    samples are chosen so that every front vertex gets valence 6 (6 − a samples for a lattice
 //    edges), which keeps the irregular vertices at the singularities next to the boundary too; a
-//    sharp corner replaces the nearest sample within half a spacing, and one with no sample
-//    that close gets a sample of its own when it turns by more than 80° or (triangles) the chord
-//    between the samples around it would cut it off by more than half a spacing (its front
-//    vertex then has valence 7). For squares (N = 4) a front vertex with a polygon edges gets 5 − a
-//    samples, and along straight stretches of the front the strip is a row of squares (valence 4 at
-//    the front).
+//    sharp corner replaces the nearest sample within half a spacing (three quarters, for
+//    triangles, at a corner turning by up to 80° between sides straight for a spacing), and one
+//    with no sample that close gets a sample of its own when it turns by more than 80° or
+//    (triangles) the chord between the samples around it would cut it off by more than half a
+//    spacing (its front vertex then has valence 7). For squares (N = 4) a front vertex with a
+//    polygon edges gets 5 − a samples, and along straight stretches of the front the strip is a row
+//    of squares (valence 4 at the front).
 // 6. Components of the input whose remesh has fewer triangles than one hexagon (6), or not the
 //    component's topology (Euler characteristic, boundary loops, one piece), are copied
 //    unchanged. When every component is copied, steps 7 and 8 are skipped: the output is the

@@ -47,14 +47,20 @@ void inputBoundaryLoops(const TriMesh& mesh, const std::vector<int>& faceCompone
 
 /// Samples up to this many places from a corner share its move (see stitchFrontByValence).
 constexpr int kCornerSpread = 2;
-/// A corner moves the nearest sample at most this many sample spacings; a corner farther from
-/// every free sample is not resolved at this edge length, unless it is sharper than
-/// kOwnSampleCornerAngle.
+/// A corner moves the nearest sample at most this many sample spacings (kOutlineCornerReach at
+/// an outline's corner); a corner farther from every free sample is not resolved at this edge
+/// length, unless it gets a sample of its own (kOwnSampleCornerAngle, kOwnSampleCornerCut).
 constexpr double kCornerReach = 0.5;
+/// A corner that turns by no more than kOwnSampleCornerAngle where the loop is straight for a
+/// spacing on either side (within kStraightWithin spacings of the chord: a CAD outline's corner,
+/// where a scan's zigzag is not) moves the nearest sample from up to this many spacings
+/// (triangles), rather than be cut off by about 0.3 spacings.
+constexpr double kOutlineCornerReach = 0.75;
+constexpr double kStraightWithin = 0.05;
 /// A boundary corner that turns by more than this many degrees gets a sample of its own when no
-/// free sample is within kCornerReach spacings (at the price of a valence-7 front vertex), and
-/// for triangles so does a blunter one that the chord between the samples around it would cut
-/// off by more than kOwnSampleCornerCut spacings.
+/// free sample is within reach (at the price of a valence-7 front vertex), and for triangles so
+/// does a blunter one that the chord between the samples around it would cut off by more than
+/// kOwnSampleCornerCut spacings.
 constexpr double kOwnSampleCornerAngle = 80.0;
 constexpr double kOwnSampleCornerCut = 0.5;
 
@@ -131,7 +137,14 @@ bool stitchFrontByValence(const BoundaryIndex& index, int loop, int component,
     int nearest = next;
     for (int k = next + 1; k < m; ++k)
       if (std::abs(arc[k] - at) < std::abs(arc[nearest] - at)) nearest = k;
-    if (nearest < m && std::abs(arc[nearest] - at) <= kCornerReach * spacing) {
+    const auto straight = [&](double from, double to) {
+      return index.farthestFromChord(loop, from, to).distance < kStraightWithin * spacing;
+    };
+    const double reach = !squares && !(turn > kOwnSampleCornerAngle) &&
+                                 straight(at - spacing, at) && straight(at, at + spacing)
+                             ? kOutlineCornerReach
+                             : kCornerReach;
+    if (nearest < m && std::abs(arc[nearest] - at) <= reach * spacing) {
       corner[nearest] = true;
       shift[nearest] = at - arc[nearest];
       next = nearest + 1;

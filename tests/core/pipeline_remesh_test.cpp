@@ -204,32 +204,45 @@ PolygonSoup subdividedFan(const std::vector<Eigen::Vector2d>& polygon, int n) {
   return soup;
 }
 
-// A flat rhombus of side 1 with corners of 105° and 75° (the loop turns by 75° and by 105°) at
-// h = 0.16-0.185: the strip's samples fell more than half a spacing from both 105° corners, which
-// turn by less than the 80° that gets a corner its own sample, and the chords between them cut
-// those corners off by 0.7-0.85 spacings (Hausdorff 4.3-5.3%). A corner cut off by more than
-// half a spacing now gets a sample of its own.
-TEST(PipelineRemesh, KeepsTheBluntCornersOfARhombusPlate) {
+// Every corner of `polygon` (flat, z = 0) is a vertex of the remesh at edge length h, and the
+// remesh covers the plate exactly.
+void expectCornersKept(const std::vector<Eigen::Vector2d>& polygon, int n, double h) {
+  RemeshOptions options;
+  options.edgeLength = h;
+  const RemeshResult result = remesh(subdividedFan(polygon, n), options);
+  const TriMesh& out = result.remesh.triangles;
+  for (const Eigen::Vector2d& corner : polygon) {
+    double nearest = 1e300;
+    for (const auto v : out.vertices())
+      nearest = std::min(nearest, (toEigen(out.point(v)).head<2>() - corner).norm());
+    EXPECT_LT(nearest, 1e-9) << "h = " << h << ", corner (" << corner.x() << ", " << corner.y()
+                             << ")";
+  }
+  ASSERT_TRUE(result.metrics.distance.has_value());
+  EXPECT_LT(result.metrics.distance->hausdorffPct, 1e-6) << "h = " << h;
+  EXPECT_TRUE(result.metrics.topologyMatchesReference.value_or(false)) << "h = " << h;
+  EXPECT_LE(result.metrics.irregularInterior, static_cast<int>(result.singularities.size()))
+      << "h = " << h;
+}
+
+// Corners that turn by less than the 80° that gets a corner a sample of its own. A flat rhombus
+// of side 1 with corners of 105° and 75° at h = 0.16-0.185: the strip's samples fell more than
+// half a spacing from both 105° corners, and the chords between them cut those corners off by
+// 0.7-0.85 spacings (Hausdorff 4.3-5.3%); a corner cut off by more than half a spacing now gets
+// a sample of its own. A regular pentagon of circumradius 1 at h = 0.1: the samples fell 0.55
+// spacings from every corner, which were cut off by 0.3 spacings (Hausdorff 1.2%); at a corner
+// between straight sides the nearest sample now moves from up to 0.75 spacings (no new
+// irregular vertex).
+TEST(PipelineRemesh, KeepsTheBluntCornersOfPolygonPlates) {
   const double angle = 105.0 * M_PI / 180.0;
   const Eigen::Vector2d side(1.0, 0.0), slant(std::cos(angle), std::sin(angle));
-  const std::vector<Eigen::Vector2d> rhombus{Eigen::Vector2d::Zero(), side, side + slant, slant};
-  const PolygonSoup plate = subdividedFan(rhombus, 16);
-  for (const double h : {0.16, 0.175}) {
-    RemeshOptions options;
-    options.edgeLength = h;
-    const RemeshResult result = remesh(plate, options);
-    const TriMesh& out = result.remesh.triangles;
-    for (const Eigen::Vector2d& corner : rhombus) {
-      double nearest = 1e300;
-      for (const auto v : out.vertices())
-        nearest = std::min(nearest, (toEigen(out.point(v)).head<2>() - corner).norm());
-      EXPECT_LT(nearest, 1e-9) << "h = " << h << ", corner (" << corner.x() << ", " << corner.y()
-                               << ")";
-    }
-    ASSERT_TRUE(result.metrics.distance.has_value());
-    EXPECT_LT(result.metrics.distance->hausdorffPct, 1e-6) << "h = " << h;
-    EXPECT_TRUE(result.metrics.topologyMatchesReference.value_or(false)) << "h = " << h;
-  }
+  for (const double h : {0.16, 0.175})
+    expectCornersKept({Eigen::Vector2d::Zero(), side, side + slant, slant}, 16, h);
+  std::vector<Eigen::Vector2d> pentagon;
+  for (int k = 0; k < 5; ++k)
+    pentagon.emplace_back(std::cos(0.4 * M_PI * k + 0.5 * M_PI),
+                          std::sin(0.4 * M_PI * k + 0.5 * M_PI));
+  expectCornersKept(pentagon, 12, 0.1);
 }
 
 // A flat unit square of 60 × 60 cells with three holes of 2 × 2 cells in a row, one cell apart:
