@@ -132,25 +132,25 @@ bool stitchFrontByValence(const BoundaryIndex& index, int loop, int component,
   for (std::size_t c = 0; c < cornerArcs.size(); ++c)
     corners.emplace_back(arc[0] + wrapped(cornerArcs[c] - arc[0]), turns[c]);
   std::sort(corners.begin(), corners.end());
+  // Whether the loop stays within kStraightWithin spacings of its chord from `from` to `to`.
+  const auto straightLoop = [&](double from, double to) {
+    return index.farthestFromChord(loop, from, to).distance < kStraightWithin * spacing;
+  };
   int next = 0;
   for (const auto& [at, turn] : corners) {
     int nearest = next;
     for (int k = next + 1; k < m; ++k)
       if (std::abs(arc[k] - at) < std::abs(arc[nearest] - at)) nearest = k;
-    const auto straight = [&](double from, double to) {
-      return index.farthestFromChord(loop, from, to).distance < kStraightWithin * spacing;
-    };
-    const double reach = !squares && !(turn > kOwnSampleCornerAngle) &&
-                                 straight(at - spacing, at) && straight(at, at + spacing)
-                             ? kOutlineCornerReach
-                             : kCornerReach;
+    const bool outline = !squares && !(turn > kOwnSampleCornerAngle) &&
+                         straightLoop(at - spacing, at) && straightLoop(at, at + spacing);
+    const double reach = outline ? kOutlineCornerReach : kCornerReach;
     if (nearest < m && std::abs(arc[nearest] - at) <= reach * spacing) {
       corner[nearest] = true;
       shift[nearest] = at - arc[nearest];
       next = nearest + 1;
       continue;
     }
-    // No free sample within kCornerReach spacings: a corner sharper than kOwnSampleCornerAngle,
+    // No free sample within reach: a corner sharper than kOwnSampleCornerAngle,
     // or one that the chord between the samples around it would cut off by more than
     // kOwnSampleCornerCut spacings, gets a sample of its own, in the fan of the front vertex
     // whose samples bracket it, which then has valence 7 (a square plate at h = 0.1 lost two of
