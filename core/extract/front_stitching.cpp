@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <optional>
@@ -132,19 +133,25 @@ bool stitchFrontByValence(const BoundaryIndex& index, int loop, int component,
   for (std::size_t c = 0; c < cornerArcs.size(); ++c)
     corners.emplace_back(arc[0] + wrapped(cornerArcs[c] - arc[0]), turns[c]);
   std::sort(corners.begin(), corners.end());
-  // Whether the loop stays within kStraightWithin spacings of its chord from `from` to `to`.
+  // An outline's corner: one turning by at most kOwnSampleCornerAngle where the loop stays
+  // within kStraightWithin spacings of its chord for a spacing on either side (triangles).
   const auto straightLoop = [&](double from, double to) {
     return index.farthestFromChord(loop, from, to).distance < kStraightWithin * spacing;
+  };
+  const auto outlineCorner = [&](double at, double turn) {
+    return !squares && !(turn > kOwnSampleCornerAngle) && straightLoop(at - spacing, at) &&
+           straightLoop(at, at + spacing);
   };
   int next = 0;
   for (const auto& [at, turn] : corners) {
     int nearest = next;
     for (int k = next + 1; k < m; ++k)
       if (std::abs(arc[k] - at) < std::abs(arc[nearest] - at)) nearest = k;
-    const bool outline = !squares && !(turn > kOwnSampleCornerAngle) &&
-                         straightLoop(at - spacing, at) && straightLoop(at, at + spacing);
-    const double reach = outline ? kOutlineCornerReach : kCornerReach;
-    if (nearest < m && std::abs(arc[nearest] - at) <= reach * spacing) {
+    // The nearest free sample's distance from the corner (none left: infinitely far).
+    const double away =
+        nearest < m ? std::abs(arc[nearest] - at) : std::numeric_limits<double>::infinity();
+    if (away <= kCornerReach * spacing ||
+        (away <= kOutlineCornerReach * spacing && outlineCorner(at, turn))) {
       corner[nearest] = true;
       shift[nearest] = at - arc[nearest];
       next = nearest + 1;

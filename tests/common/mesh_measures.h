@@ -1,7 +1,9 @@
 #pragma once
 // Measures of meshes that several tests check.
 
+#include <algorithm>
 #include <array>
+#include <limits>
 
 #include "core/mesh/mesh.h"
 
@@ -17,6 +19,14 @@ inline double signedVolume(const TriMesh& mesh) {
     volume += p[0].dot(p[1].cross(p[2])) / 6.0;
   }
   return volume;
+}
+
+/// Distance from p to the nearest vertex of the mesh (infinity for a mesh without vertices).
+inline double distanceToNearestVertex(const TriMesh& mesh, const Eigen::Vector3d& p) {
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const auto v : mesh.vertices())
+    nearest = std::min(nearest, (toEigen(mesh.point(v)) - p).norm());
+  return nearest;
 }
 
 }  // namespace hexcover::test

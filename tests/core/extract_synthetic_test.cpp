@@ -15,6 +15,7 @@
 #include "core/mesh/primitives.h"
 #include "core/mesh/topology.h"
 #include "tests/common/lattice_parameterizations.h"
+#include "tests/common/mesh_measures.h"
 
 namespace hexcover {
 namespace {
@@ -234,9 +235,8 @@ TEST(ExtractSynthetic, FollowedBoundaryLiesOnTheInputBoundaryAndKeepsTopology) {
   // The four corners of the patch (sharp boundary corners) are output vertices.
   for (const auto v : grid.vertices()) {
     if (grid.valence(v) > 3) continue;  // corners of the parallelogram have valence 2 or 3
-    double nearest = 1e300;
-    for (const auto w : out.vertices()) nearest = std::min(nearest, (out.point(w) - grid.point(v)).norm());
-    EXPECT_LT(nearest, 1e-9) << "corner " << v.idx();
+    EXPECT_LT(test::distanceToNearestVertex(out, toEigen(grid.point(v))), 1e-9)
+        << "corner " << v.idx();
   }
   const auto [lo, hi] = angleRange(out);
   EXPECT_GT(lo, 15.0);

@@ -16,6 +16,7 @@
 #include "core/mesh/io.h"
 #include "core/mesh/primitives.h"
 #include "core/pipeline/pipeline.h"
+#include "tests/common/mesh_measures.h"
 #include "tests/common/quality_floors.h"
 #include "tests/common/test_meshes.h"
 
@@ -166,12 +167,9 @@ TEST(PipelineRemesh, KeepsEveryCornerOfASquarePlate) {
   const RemeshResult result = remesh(plate, options);
   const TriMesh& out = result.remesh.triangles;
   for (const Eigen::Vector3d& corner : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0),
-                                        Eigen::Vector3d(1, 1, 0), Eigen::Vector3d(0, 1, 0)}) {
-    double nearest = 1e300;
-    for (const auto v : out.vertices())
-      nearest = std::min(nearest, (toEigen(out.point(v)) - corner).norm());
-    EXPECT_LT(nearest, 1e-9) << "corner (" << corner.x() << ", " << corner.y() << ")";
-  }
+                                        Eigen::Vector3d(1, 1, 0), Eigen::Vector3d(0, 1, 0)})
+    EXPECT_LT(test::distanceToNearestVertex(out, corner), 1e-9)
+        << "corner (" << corner.x() << ", " << corner.y() << ")";
   ASSERT_TRUE(result.metrics.distance.has_value());
   EXPECT_LT(result.metrics.distance->hausdorffPct, 1e-6);
   EXPECT_TRUE(result.metrics.topologyMatchesReference.value_or(false));
@@ -211,13 +209,10 @@ void expectCornersKept(const std::vector<Eigen::Vector2d>& polygon, int n, doubl
   options.edgeLength = h;
   const RemeshResult result = remesh(subdividedFan(polygon, n), options);
   const TriMesh& out = result.remesh.triangles;
-  for (const Eigen::Vector2d& corner : polygon) {
-    double nearest = 1e300;
-    for (const auto v : out.vertices())
-      nearest = std::min(nearest, (toEigen(out.point(v)).head<2>() - corner).norm());
-    EXPECT_LT(nearest, 1e-9) << "h = " << h << ", corner (" << corner.x() << ", " << corner.y()
-                             << ")";
-  }
+  for (const Eigen::Vector2d& corner : polygon)
+    EXPECT_LT(test::distanceToNearestVertex(out, Eigen::Vector3d(corner.x(), corner.y(), 0.0)),
+              1e-9)
+        << "h = " << h << ", corner (" << corner.x() << ", " << corner.y() << ")";
   ASSERT_TRUE(result.metrics.distance.has_value());
   EXPECT_LT(result.metrics.distance->hausdorffPct, 1e-6) << "h = " << h;
   EXPECT_TRUE(result.metrics.topologyMatchesReference.value_or(false)) << "h = " << h;
