@@ -23,8 +23,13 @@ void groupColumns(const Eigen::SparseMatrix<double, Eigen::RowMajor>& rows, int 
 }  // namespace
 
 NormalEquations::NormalEquations(const Eigen::SparseMatrix<double>& a,
-                                 const std::vector<int>& groupStart)
-    : rows_(a), groupStart_(groupStart) {
+                                 const std::vector<int>& groupStart, int denseColumns)
+    : rows_(a),
+      groupStart_(groupStart),
+      denseFrom_(static_cast<int>(a.cols()) -
+                 (denseColumns <= kMaxDenseColumns
+                      ? std::clamp(denseColumns, 0, static_cast<int>(a.cols()))
+                      : 0)) {
   groupStart_.push_back(static_cast<int>(a.rows()));
   if (groupStart_.front() != 0 || !std::is_sorted(groupStart_.begin(), groupStart_.end()))
     throw std::invalid_argument("NormalEquations: groups must start at row 0 and increase");
@@ -78,6 +83,13 @@ void NormalEquations::assembleColumns(const Eigen::VectorXd& rowWeight, int firs
   double* value = result.valuePtr();
   const int* outer = result.outerIndexPtr();
   const int* inner = result.innerIndexPtr();
+  // The dense block's sums in this range of columns: entry (i, j) of the block, j from
+  // denseFirst, at dense[i + denseSize · (j − denseFirst)].
+  const int denseSize = static_cast<int>(result.cols()) - denseFrom_;
+  const int denseFirst = std::max(firstColumn, denseFrom_);
+  std::vector<double> dense(static_cast<std::size_t>(denseSize) *
+                                static_cast<std::size_t>(std::max(0, endColumn - denseFirst)),
+                            0.0);
   std::vector<int> columns, position, local;
   std::vector<double> scaled;
   const int groups = static_cast<int>(groupStart_.size()) - 1;
@@ -86,11 +98,17 @@ void NormalEquations::assembleColumns(const Eigen::VectorXd& rowWeight, int firs
     groupColumns(rows_, begin, end, columns);
     if (columns.empty() || columns.back() < firstColumn || columns.front() >= endColumn) continue;
     const int m = static_cast<int>(columns.size());
-    // position[p·m + q]: where entry (columns[p], columns[q]) of the result is stored, looked
-    // up when a row first needs it (two columns of a group need not share a row).
-    position.assign(static_cast<std::size_t>(m) * m, -1);
+    // The group's columns [0, split) are outside the dense block.
+    const int split = static_cast<int>(
+        std::lower_bound(columns.begin(), columns.end(), denseFrom_) - columns.begin());
+    // Where entry (columns[p], columns[q]) of the result is stored, for p or q below split:
+    // looked up when a row first needs it (two columns of a group need not share a row), at
+    // position[q·m + p] for q < split, at position[split·m + (q − split)·split + p] otherwise.
+    position.assign(static_cast<std::size_t>(split) * (2 * m - split), -1);
     const auto at = [&](int p, int q) {
-      int& index = position[static_cast<std::size_t>(p) * m + q];
+      int& index = position[q < split ? static_cast<std::size_t>(q) * m + p
+                                      : static_cast<std::size_t>(split) * m +
+                                            static_cast<std::size_t>(q - split) * split + p];
       if (index < 0)
         index = static_cast<int>(
             std::lower_bound(inner + outer[columns[q]], inner + outer[columns[q] + 1], columns[p]) -
@@ -110,12 +128,25 @@ void NormalEquations::assembleColumns(const Eigen::VectorXd& rowWeight, int firs
         scaled.push_back(it.value() * scale);
       }
       for (std::size_t b = 0; b < local.size(); ++b) {
-        if (columns[local[b]] < firstColumn || columns[local[b]] >= endColumn) continue;
-        for (std::size_t a = 0; a < local.size(); ++a)
-          value[at(local[a], local[b])] += scaled[a] * scaled[b];
+        const int column = columns[local[b]];
+        if (column < firstColumn || column >= endColumn) continue;
+        const bool denseColumn = local[b] >= split;
+        const std::size_t denseStart =
+            denseColumn ? static_cast<std::size_t>(denseSize) * (column - denseFirst) : 0;
+        for (std::size_t a = 0; a < local.size(); ++a) {
+          if (denseColumn && local[a] >= split)
+            dense[denseStart + (columns[local[a]] - denseFrom_)] += scaled[a] * scaled[b];
+          else
+            value[at(local[a], local[b])] += scaled[a] * scaled[b];
+        }
       }
     }
   }
+  for (int column = denseFirst; column < endColumn; ++column)
+    for (int k = outer[column]; k < outer[column + 1]; ++k)
+      if (inner[k] >= denseFrom_)
+        value[k] = dense[static_cast<std::size_t>(inner[k] - denseFrom_) +
+                         static_cast<std::size_t>(denseSize) * (column - denseFirst)];
 }
 
 }  // namespace hexcover

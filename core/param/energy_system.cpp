@@ -145,7 +145,7 @@ EnergySystem::EnergySystem(const LeastSquares& ls, int realCount,
                            std::vector<std::vector<int>> integerGroups, LinearSolver kind,
                            int threads)
     : ls_(ls),
-      normal_(ls.gradient, rowGroups(ls)),
+      normal_(ls.gradient, rowGroups(ls), static_cast<int>(ls.gradient.cols()) - realCount),
       realCount_(realCount),
       groups_(std::move(integerGroups)),
       threads_(threads),

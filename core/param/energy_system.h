@@ -97,7 +97,7 @@ class EnergySystem {
   double schurEntry(int a, int b) const;
 
   const LeastSquares& ls_;
-  NormalEquations normal_;  ///< AᵀWA for the face weights of each solve
+  NormalEquations normal_;  ///< AᵀWA for the face weights of each solve (integers: dense block)
   int realCount_;
   std::vector<std::vector<int>> groups_;   ///< independent groups of integer unknowns
   std::vector<int> groupOf_, localIndex_;  ///< per integer unknown: its group, its index there

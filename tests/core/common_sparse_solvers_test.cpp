@@ -203,25 +203,10 @@ TEST(SupernodalSolve, SolvesManyRightHandSidesTheSameOnAnyThreadCount) {
             Eigen::MatrixXd(cholesky.solve(b.col(4))));
 }
 
-TEST(NormalEquations, EqualTheWeightedProductToTheLastBitForEveryWeighting) {
-  // Groups of 1-6 rows over a few of 50 columns each (a face's rows over its corners' unknowns),
-  // one empty row, and rows that reach other groups' columns.
-  const int columns = 50;
-  std::vector<Eigen::Triplet<double>> triplets;
-  std::vector<int> groupStart;
-  int row = 0;
-  for (int g = 0; g < 40; ++g) {
-    groupStart.push_back(row);
-    const int size = 1 + g % 6;
-    for (int r = 0; r < size; ++r, ++row)
-      for (int k = 0; k < 3 + (r + g) % 4; ++k)
-        if (g != 7 || r != 0)  // row 0 of group 7 stays empty
-          triplets.emplace_back(row, (g * 7 + k * (3 + r) + (k == 3 ? 23 : 0)) % columns,
-                                std::sin(1.0 + row * 0.37 + k * 1.3));
-  }
-  SparseMatrix a(row, columns);
-  a.setFromTriplets(triplets.begin(), triplets.end());
-  const NormalEquations normal(a, groupStart);
+/// `normal`, built from `a`, against the product (√W A)ᵀ(√W A) for two weightings: the same
+/// values to the last bit, for any thread count, on the places of its pattern().
+void checkNormalEquations(const SparseMatrix& a, const NormalEquations& normal) {
+  const int row = static_cast<int>(a.rows()), columns = static_cast<int>(a.cols());
   for (int weighting = 0; weighting < 2; ++weighting) {
     Eigen::VectorXd weight(row);
     for (int r = 0; r < row; ++r) weight[r] = weighting == 0 ? 1.0 : 0.1 + (r % 5) * 0.7;
@@ -254,6 +239,35 @@ TEST(NormalEquations, EqualTheWeightedProductToTheLastBitForEveryWeighting) {
     }
   }
   EXPECT_THROW(normal.assemble(Eigen::VectorXd::Ones(row + 1)), std::invalid_argument);
+}
+
+TEST(NormalEquations, EqualTheWeightedProductToTheLastBitForEveryWeighting) {
+  // Groups of 1-6 rows over a few of 50 columns each (a face's rows over its corners' unknowns),
+  // one empty row, and rows that reach other groups' columns.
+  const int columns = 50;
+  std::vector<Eigen::Triplet<double>> triplets;
+  std::vector<int> groupStart;
+  int row = 0;
+  for (int g = 0; g < 40; ++g) {
+    groupStart.push_back(row);
+    const int size = 1 + g % 6;
+    for (int r = 0; r < size; ++r, ++row)
+      for (int k = 0; k < 3 + (r + g) % 4; ++k)
+        if (g != 7 || r != 0)  // row 0 of group 7 stays empty
+          triplets.emplace_back(row, (g * 7 + k * (3 + r) + (k == 3 ? 23 : 0)) % columns,
+                                std::sin(1.0 + row * 0.37 + k * 1.3));
+  }
+  // Every fifth row also meets the 8 last columns (a face's rows near the cut graph meet many
+  // integer unknowns).
+  for (int r = 0; r < row; r += 5)
+    for (int c = columns - 8; c < columns; ++c) triplets.emplace_back(r, c, std::cos(r + 0.5 * c));
+  SparseMatrix a(row, columns);
+  a.setFromTriplets(triplets.begin(), triplets.end());
+  // Without a dense block, with the 8 last columns in one, and with all of them in one.
+  for (const int denseColumns : {0, 8, columns}) {
+    SCOPED_TRACE(std::to_string(denseColumns) + " dense columns");
+    checkNormalEquations(a, NormalEquations(a, groupStart, denseColumns));
+  }
   EXPECT_THROW(NormalEquations(a, {1, 5}), std::invalid_argument);
 }
 
