@@ -1,16 +1,19 @@
 // The sparse solvers of core/common: Cholesky with a shared elimination order, the supernodal
 // forward solve with sparse right-hand sides behind the parameterization's Schur complement, the
 // dense solve split by columns, the solve after a low-rank update, and the normal equations of
-// its least squares.
+// its least squares; the OpenMP regions of CHOLMOD run as plain calls.
 
+#include <dlfcn.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <thread>
 #include <vector>
 
+#include "core/common/blas_threads.h"
 #include "core/common/normal_equations.h"
 #include "core/common/sparse_cholesky.h"
 #include "core/common/sparse_forward_solve.h"
@@ -54,6 +57,38 @@ class SimplicialFactor : public Eigen::CholmodSimplicialLLT<SparseMatrix> {
  public:
   const cholmod_factor& factor() const { return *m_cholmodFactor; }
 };
+
+TEST(SingleThreadedBlas, RunsTheLibrariesParallelRegionsAsPlainCalls) {
+  useSingleThreadedBlas();
+  // libgomp is loaded through CHOLMOD; its omp_get_level() counts the enclosing regions, inactive
+  // ones too.
+  using Level = int (*)();
+  const auto level = reinterpret_cast<Level>(dlsym(RTLD_DEFAULT, "omp_get_level"));
+  ASSERT_NE(level, nullptr) << "libgomp is not loaded";
+  // GOMP_parallel as CHOLMOD's calls find it runs a region's body once, on the calling thread,
+  // for any thread count asked, without opening a region (libgomp's would: level 1).
+  struct Calls {
+    Level level = nullptr;
+    int count = 0;
+    int levelInside = -1;
+    std::thread::id thread;
+  } calls;
+  calls.level = level;
+  const auto found = reinterpret_cast<void (*)(void (*)(void*), void*, unsigned, unsigned)>(
+      dlsym(RTLD_DEFAULT, "GOMP_parallel"));
+  ASSERT_NE(found, nullptr);
+  found(
+      [](void* data) {
+        auto& c = *static_cast<Calls*>(data);
+        ++c.count;
+        c.levelInside = c.level();
+        c.thread = std::this_thread::get_id();
+      },
+      &calls, 4, 0);
+  EXPECT_EQ(calls.count, 1);
+  EXPECT_EQ(calls.levelInside, 0);
+  EXPECT_EQ(calls.thread, std::this_thread::get_id());
+}
 
 TEST(MinimumDegreeOrder, IsAPermutationOfTheNodes) {
   const int side = 30;
