@@ -55,8 +55,8 @@ NormalEquations::NormalEquations(const Eigen::SparseMatrix<double>& a,
   std::fill(pattern_.valuePtr(), pattern_.valuePtr() + inner.size(), 0.0);
 }
 
-Eigen::SparseMatrix<double> NormalEquations::assemble(const Eigen::VectorXd& rowWeight,
-                                                      int threads) const {
+Eigen::SparseMatrix<double> NormalEquations::assemble(const Eigen::VectorXd& rowWeight, int threads,
+                                                      DenseBlock denseBlock) const {
   if (rowWeight.size() != rows_.rows())
     throw std::invalid_argument("NormalEquations: one weight per row is needed");
   Eigen::SparseMatrix<double> result = pattern_;
@@ -74,12 +74,16 @@ Eigen::SparseMatrix<double> NormalEquations::assemble(const Eigen::VectorXd& row
                          result.outerIndexPtr());
   parallelFor(
       workers, workers,
-      [&](std::size_t w) { assembleColumns(rowWeight, bound[w], bound[w + 1], result); }, 1);
+      [&](std::size_t w) {
+        assembleColumns(rowWeight, bound[w], bound[w + 1], denseBlock, result);
+      },
+      1);
   return result;
 }
 
 void NormalEquations::assembleColumns(const Eigen::VectorXd& rowWeight, int firstColumn,
-                                      int endColumn, Eigen::SparseMatrix<double>& result) const {
+                                      int endColumn, DenseBlock denseBlock,
+                                      Eigen::SparseMatrix<double>& result) const {
   double* value = result.valuePtr();
   const int* outer = result.outerIndexPtr();
   const int* inner = result.innerIndexPtr();
@@ -87,8 +91,11 @@ void NormalEquations::assembleColumns(const Eigen::VectorXd& rowWeight, int firs
   // denseFirst, at dense[i + denseSize · (j − denseFirst)].
   const int denseSize = static_cast<int>(result.cols()) - denseFrom_;
   const int denseFirst = std::max(firstColumn, denseFrom_);
-  std::vector<double> dense(static_cast<std::size_t>(denseSize) *
-                                static_cast<std::size_t>(std::max(0, endColumn - denseFirst)),
+  const bool sumDense = denseBlock == DenseBlock::Summed;
+  std::vector<double> dense(sumDense
+                                ? static_cast<std::size_t>(denseSize) *
+                                      static_cast<std::size_t>(std::max(0, endColumn - denseFirst))
+                                : 0,
                             0.0);
   std::vector<int> columns, position, local;
   std::vector<double> scaled;
@@ -132,16 +139,18 @@ void NormalEquations::assembleColumns(const Eigen::VectorXd& rowWeight, int firs
         if (column < firstColumn || column >= endColumn) continue;
         const bool denseColumn = local[b] >= split;
         const std::size_t denseStart =
-            denseColumn ? static_cast<std::size_t>(denseSize) * (column - denseFirst) : 0;
+            denseColumn && sumDense ? static_cast<std::size_t>(denseSize) * (column - denseFirst)
+                                    : 0;
         for (std::size_t a = 0; a < local.size(); ++a) {
-          if (denseColumn && local[a] >= split)
-            dense[denseStart + (columns[local[a]] - denseFrom_)] += scaled[a] * scaled[b];
-          else
+          if (!denseColumn || local[a] < split)
             value[at(local[a], local[b])] += scaled[a] * scaled[b];
+          else if (sumDense)
+            dense[denseStart + (columns[local[a]] - denseFrom_)] += scaled[a] * scaled[b];
         }
       }
     }
   }
+  if (!sumDense) return;
   for (int column = denseFirst; column < endColumn; ++column)
     for (int k = outer[column]; k < outer[column + 1]; ++k)
       if (inner[k] >= denseFrom_)

@@ -32,9 +32,14 @@ class NormalEquations {
   NormalEquations(const Eigen::SparseMatrix<double>& a, const std::vector<int>& groupStart,
                   int denseColumns = 0);
 
+  /// Whether an assembly sums the entries among the dense block's columns or leaves them 0 (a
+  /// caller that holds those unknowns fixed does not read them).
+  enum class DenseBlock { Summed, Skipped };
+
   /// AᵀWA (both triangles) for W = diag(rowWeight) (#rows of A), on up to `threads` threads
   /// (the same values for any count).
-  Eigen::SparseMatrix<double> assemble(const Eigen::VectorXd& rowWeight, int threads = 1) const;
+  Eigen::SparseMatrix<double> assemble(const Eigen::VectorXd& rowWeight, int threads = 1,
+                                       DenseBlock denseBlock = DenseBlock::Summed) const;
 
   /// The pattern of AᵀA (both triangles), every stored value 0: that of every assembly.
   const Eigen::SparseMatrix<double>& pattern() const { return pattern_; }
@@ -45,7 +50,7 @@ class NormalEquations {
  private:
   /// Adds the entries of `result`'s columns [firstColumn, endColumn) of AᵀWA.
   void assembleColumns(const Eigen::VectorXd& rowWeight, int firstColumn, int endColumn,
-                       Eigen::SparseMatrix<double>& result) const;
+                       DenseBlock denseBlock, Eigen::SparseMatrix<double>& result) const;
 
   Eigen::SparseMatrix<double, Eigen::RowMajor> rows_;  ///< A, row by row
   std::vector<int> groupStart_;                        ///< with rows_.rows() appended

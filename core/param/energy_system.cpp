@@ -177,7 +177,10 @@ void EnergySystem::setFaceWeights(const Eigen::VectorXd& faceWeight, bool intege
     z_ = solver_->solve(b.head(r));
     return;
   }
-  const SparseMatrix a = normal_.assemble(rowWeight, threads_);
+  // With the integers fixed, A_ii is not read.
+  const SparseMatrix a = normal_.assemble(
+      rowWeight, threads_,
+      integersFree ? NormalEquations::DenseBlock::Summed : NormalEquations::DenseBlock::Skipped);
   const int k = static_cast<int>(a.cols()) - realCount_;
   ari_ = a.topRightCorner(r, k);
   z_ = b.head(r);

@@ -238,9 +238,11 @@ TEST(SupernodalSolve, SolvesManyRightHandSidesTheSameOnAnyThreadCount) {
             Eigen::MatrixXd(cholesky.solve(b.col(4))));
 }
 
-/// `normal`, built from `a`, against the product (√W A)ᵀ(√W A) for two weightings: the same
-/// values to the last bit, for any thread count, on the places of its pattern().
-void checkNormalEquations(const SparseMatrix& a, const NormalEquations& normal) {
+/// `normal`, built from `a` with a dense block of its last `denseColumns` columns, against the
+/// product (√W A)ᵀ(√W A) for two weightings: the same values to the last bit, for any thread
+/// count, on the places of its pattern(); without the block's sums, 0 there and the same
+/// elsewhere.
+void checkNormalEquations(const SparseMatrix& a, const NormalEquations& normal, int denseColumns) {
   const int row = static_cast<int>(a.rows()), columns = static_cast<int>(a.cols());
   for (int weighting = 0; weighting < 2; ++weighting) {
     Eigen::VectorXd weight(row);
@@ -262,6 +264,14 @@ void checkNormalEquations(const SparseMatrix& a, const NormalEquations& normal) 
       for (Eigen::Index k = 0; k < split.nonZeros(); ++k)
         ASSERT_EQ(split.valuePtr()[k], assembled.valuePtr()[k]) << threads << " threads";
     }
+    const SparseMatrix skipped = normal.assemble(weight, 2, NormalEquations::DenseBlock::Skipped);
+    ASSERT_EQ(skipped.nonZeros(), assembled.nonZeros());
+    const int denseFrom = columns - denseColumns;
+    for (int col = 0; col < columns; ++col)
+      for (SparseMatrix::InnerIterator it(assembled, col); it; ++it)
+        EXPECT_EQ(skipped.coeff(it.row(), col),
+                  it.row() >= denseFrom && col >= denseFrom ? 0.0 : it.value())
+            << it.row() << ", " << col;
     // pattern(): the assembly's places, in the same order, every value 0 (the parameterization
     // analyzes its system on it before the weights are known).
     const SparseMatrix& pattern = normal.pattern();
@@ -301,7 +311,7 @@ TEST(NormalEquations, EqualTheWeightedProductToTheLastBitForEveryWeighting) {
   // Without a dense block, with the 8 last columns in one, and with all of them in one.
   for (const int denseColumns : {0, 8, columns}) {
     SCOPED_TRACE(std::to_string(denseColumns) + " dense columns");
-    checkNormalEquations(a, NormalEquations(a, groupStart, denseColumns));
+    checkNormalEquations(a, NormalEquations(a, groupStart, denseColumns), denseColumns);
   }
   EXPECT_THROW(NormalEquations(a, {1, 5}), std::invalid_argument);
 }
