@@ -60,22 +60,39 @@ Eigen::SparseMatrix<double> NormalEquations::assemble(const Eigen::VectorXd& row
   if (rowWeight.size() != rows_.rows())
     throw std::invalid_argument("NormalEquations: one weight per row is needed");
   Eigen::SparseMatrix<double> result = pattern_;
-  // Each worker sums the entries of its own range of result columns (about equal numbers of
-  // entries), over every group that reaches them: every entry is summed by one worker, in the
-  // same order as by one thread.
+  // Each worker sums the entries of its own range of the columns before the dense block (about
+  // equal numbers of entries), over every group that reaches them: every entry is summed by one
+  // worker, in the same order as by one thread. The last worker also sums the dense block.
   const int n = static_cast<int>(result.cols());
-  const int workers = std::clamp(threads, 1, std::max(1, n));
+  const int* outer = result.outerIndexPtr();
+  const int workers = std::clamp(threads, 1, std::max(1, denseFrom_));
   std::vector<int> bound(workers + 1, n);
   bound[0] = 0;
   for (int w = 1; w < workers; ++w)
     bound[w] =
-        static_cast<int>(std::lower_bound(result.outerIndexPtr(), result.outerIndexPtr() + n,
-                                          static_cast<long long>(result.nonZeros()) * w / workers) -
-                         result.outerIndexPtr());
+        static_cast<int>(std::lower_bound(outer, outer + denseFrom_,
+                                          static_cast<long long>(outer[denseFrom_]) * w / workers) -
+                         outer);
   parallelFor(
       workers, workers,
       [&](std::size_t w) {
         assembleColumns(rowWeight, bound[w], bound[w + 1], denseBlock, result);
+      },
+      1);
+  // The dense block's columns are long (a row meets many of them), so their entries in the
+  // other rows are not looked up there but copied from their mirror images, (p, c) from (c, p)
+  // in the short column p: a · b = b · a, the same sums.
+  const int* inner = result.innerIndexPtr();
+  double* value = result.valuePtr();
+  parallelFor(
+      static_cast<std::size_t>(n - denseFrom_), threads,
+      [&](std::size_t d) {
+        const int column = denseFrom_ + static_cast<int>(d);
+        for (int k = outer[column]; k < outer[column + 1] && inner[k] < denseFrom_; ++k) {
+          const int row = inner[k];
+          value[k] =
+              value[std::lower_bound(inner + outer[row], inner + outer[row + 1], column) - inner];
+        }
       },
       1);
   return result;
@@ -108,14 +125,12 @@ void NormalEquations::assembleColumns(const Eigen::VectorXd& rowWeight, int firs
     // The group's columns [0, split) are outside the dense block.
     const int split = static_cast<int>(
         std::lower_bound(columns.begin(), columns.end(), denseFrom_) - columns.begin());
-    // Where entry (columns[p], columns[q]) of the result is stored, for p or q below split:
-    // looked up when a row first needs it (two columns of a group need not share a row), at
-    // position[q·m + p] for q < split, at position[split·m + (q − split)·split + p] otherwise.
-    position.assign(static_cast<std::size_t>(split) * (2 * m - split), -1);
+    // Where entry (columns[p], columns[q]) of the result is stored, for q below split: looked
+    // up when a row first needs it (two columns of a group need not share a row), at
+    // position[q·m + p].
+    position.assign(static_cast<std::size_t>(split) * m, -1);
     const auto at = [&](int p, int q) {
-      int& index = position[q < split ? static_cast<std::size_t>(q) * m + p
-                                      : static_cast<std::size_t>(split) * m +
-                                            static_cast<std::size_t>(q - split) * split + p];
+      int& index = position[static_cast<std::size_t>(q) * m + p];
       if (index < 0)
         index = static_cast<int>(
             std::lower_bound(inner + outer[columns[q]], inner + outer[columns[q] + 1], columns[p]) -
@@ -137,16 +152,17 @@ void NormalEquations::assembleColumns(const Eigen::VectorXd& rowWeight, int firs
       for (std::size_t b = 0; b < local.size(); ++b) {
         const int column = columns[local[b]];
         if (column < firstColumn || column >= endColumn) continue;
-        const bool denseColumn = local[b] >= split;
-        const std::size_t denseStart =
-            denseColumn && sumDense ? static_cast<std::size_t>(denseSize) * (column - denseFirst)
-                                    : 0;
-        for (std::size_t a = 0; a < local.size(); ++a) {
-          if (!denseColumn || local[a] < split)
+        if (local[b] < split) {
+          for (std::size_t a = 0; a < local.size(); ++a)
             value[at(local[a], local[b])] += scaled[a] * scaled[b];
-          else if (sumDense)
-            dense[denseStart + (columns[local[a]] - denseFrom_)] += scaled[a] * scaled[b];
+          continue;
         }
+        // A column of the dense block: its other rows are mirrored afterwards (see assemble).
+        if (!sumDense) continue;
+        const std::size_t denseStart = static_cast<std::size_t>(denseSize) * (column - denseFirst);
+        for (std::size_t a = 0; a < local.size(); ++a)
+          if (local[a] >= split)
+            dense[denseStart + (columns[local[a]] - denseFrom_)] += scaled[a] * scaled[b];
       }
     }
   }

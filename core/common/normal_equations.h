@@ -12,8 +12,10 @@
 //
 // A few trailing columns that many rows meet (the parameterization's integer unknowns: a face
 // near the cut graph can depend on a hundred of them) are summed among themselves in a dense
-// block, without looking places up: a row over m of them adds m² products. Feline's quad
-// parameterization (rows over up to 165 columns): 0.47 s per assembly without the block.
+// block, without looking places up: a row over m of them adds m² products. Their entries in the
+// other rows are copied from the mirror images, which sit in short columns, instead of being
+// looked up in their long ones. Feline's quad parameterization (rows over up to 165 columns):
+// 0.47 s per assembly without the block, 0.24 s with it.
 #include <Eigen/SparseCore>
 #include <vector>
 
