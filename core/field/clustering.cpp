@@ -232,6 +232,20 @@ constexpr double kCoincidentFraction = 1.0 / 12.0;
 /// ... when that index is one that no single vertex of the lattice realizes: two +1/6 make a
 /// vertex of valence 4 (the extraction merges their lattice point's copies), three or more do not.
 constexpr int kCoincidentMinIndex = 3;
+/// ... where the mesh's edges around them are on average shorter than this fraction of its
+/// median edge (a graded sphere's dense pole: under a tenth).
+constexpr double kCoincidentFinerThan = 0.25;
+
+/// The median length of the mesh's edges (0 without edges).
+double medianEdgeLength(const TriMesh& mesh) {
+  std::vector<double> lengths;
+  lengths.reserve(mesh.n_edges());
+  for (const auto e : mesh.edges()) lengths.push_back(mesh.calc_edge_length(e));
+  if (lengths.empty()) return 0.0;
+  const auto middle = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2);
+  std::nth_element(lengths.begin(), middle, lengths.end());
+  return *middle;
+}
 
 /// `nodes` with every group of like-signed nodes that are transitively closer than `radius`
 /// (graph distance) and whose summed index reaches `minIndex` in absolute value replaced by one
@@ -245,6 +259,7 @@ std::vector<ClusterNode> mergeCoincidentNodes(const TriMesh& mesh, GeodesicBall&
                                               const std::vector<ClusterNode>& nodes,
                                               const std::vector<double>& angleDefect, int n,
                                               double radius, double reach, int minIndex,
+                                              double typicalEdgeLength,
                                               std::vector<int>& replaced) {
   const auto position = [&](int k) {
     return toEigen(mesh.point(OpenMesh::VertexHandle(nodes[k].vertex)));
@@ -268,6 +283,17 @@ std::vector<ClusterNode> mergeCoincidentNodes(const TriMesh& mesh, GeodesicBall&
     int index = 0;
     for (const int j : members) index += nodes[j].index;
     if (members.size() < 2 || std::abs(index) < minIndex) continue;
+    // Only where the mesh is much finer than it typically is: on a mesh about as fine
+    // everywhere, nodes this close are features of the surface that a coarse lattice meets
+    // (feline at K = V/64: three −1/6 4 input edges apart; merged and split, the parameterization
+    // folded and the input came back unchanged).
+    double lengthSum = 0.0, edges = 0.0;
+    for (const int j : members)
+      for (const auto h : mesh.voh_range(OpenMesh::VertexHandle(nodes[j].vertex))) {
+        lengthSum += mesh.calc_edge_length(h);
+        edges += 1.0;
+      }
+    if (!(lengthSum < kCoincidentFinerThan * typicalEdgeLength * edges)) continue;
     // Where the Gauss curvature within `reach` carries half of the index or more (the tip of an
     // elongated ellipsoid), the zeros sit where the surface turns: they stay.
     double curvature = 0.0;
@@ -303,9 +329,9 @@ ClusteringResult splitHighOrderNodes(const TriMesh& mesh, const EdgeGraph& graph
   ClusteringResult result;
   const auto position = [&](int v) { return toEigen(mesh.point(OpenMesh::VertexHandle(v))); };
   GeodesicBall ball(graph);
-  const std::vector<ClusterNode> merged =
-      mergeCoincidentNodes(mesh, ball, nodes, angleDefect, n, kCoincidentFraction * dSing,
-                           0.5 * dSing, kCoincidentMinIndex, result.collapsedVertices);
+  const std::vector<ClusterNode> merged = mergeCoincidentNodes(
+      mesh, ball, nodes, angleDefect, n, kCoincidentFraction * dSing, 0.5 * dSing,
+      kCoincidentMinIndex, medianEdgeLength(mesh), result.collapsedVertices);
   std::vector<char> taken(graph.vertices(), 0);
   for (const auto& node : merged) taken[node.vertex] = 1;
   for (const auto& node : merged) {

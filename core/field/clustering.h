@@ -79,9 +79,12 @@ ClusteringResult clusterSingularities(const TriMesh& mesh, const EdgeGraph& grap
 /// the nearest obstacle (a vertex of `blocked`, e.g. boundary and crease vertices, or another
 /// node) and at most dSing / 2. A node whose ring has too few free vertices stays whole (the
 /// remesh pipeline then refines the input and computes the field again). Like-signed nodes closer
-/// than dSing / 12 whose index sum is 3 or more count as one node first (a mesh much finer in one
-/// place resolves a high-order zero there as first-order ones a fraction of an edge apart),
-/// unless the angle defects within dSing / 2 carry half of that sum (an ellipsoid's tip).
+/// than dSing / 12 whose index sum is 3 or more count as one node first where the mesh's edges
+/// around them average under a quarter of its median edge (a mesh much finer in one place
+/// resolves a high-order zero there as first-order ones a fraction of an edge apart; on a mesh
+/// about as fine everywhere, nodes that close are the surface's features met by a coarse
+/// lattice), unless the angle defects within dSing / 2 carry half of that sum (an ellipsoid's
+/// tip).
 /// Returns every node (sorted by vertex) and, in collapsedVertices, the split nodes' vertices and
 /// their rings (the region to re-solve); collapses counts the nodes split.
 ClusteringResult splitHighOrderNodes(const TriMesh& mesh, const EdgeGraph& graph,

@@ -126,5 +126,28 @@ TEST(FieldClustering, SplitsAHighOrderNodeIntoFirstOrderOnesAroundIt) {
       0);
 }
 
+TEST(SplitHighOrderNodes, LeavesLikeSignedNodesAloneWhereTheMeshIsAsFineAsElsewhere) {
+  // Three +1/6 two edges apart, well within d_sing / 12, on a grid of equal edges: features of
+  // the surface that a coarse lattice meets, not one zero that a locally finer mesh resolved as
+  // several (merged and split around, feline's at K = V/64 folded its parameterization). They
+  // stay where they are.
+  const TriMesh grid = makeEquilateralGrid(25, 25, 1.0);
+  const field::EdgeGraph graph(grid);
+  std::vector<bool> boundary(grid.n_vertices(), false);
+  for (const auto v : grid.vertices()) boundary[v.idx()] = grid.is_boundary(v);
+  const std::vector<double> flat(grid.n_vertices(), 0.0);
+  const int centre = 12 * 25 + 12;
+  const std::vector<field::ClusterNode> nodes{{centre - 2, 1}, {centre, 1}, {centre + 2, 1}};
+  const field::ClusteringResult result =
+      field::splitHighOrderNodes(grid, graph, nodes, flat, boundary, 6, 1, 100.0);
+  EXPECT_EQ(result.collapses, 0);
+  ASSERT_EQ(result.nodes.size(), 3u);
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(result.nodes[k].vertex, nodes[k].vertex);
+    EXPECT_EQ(result.nodes[k].index, 1);
+  }
+  EXPECT_TRUE(result.collapsedVertices.empty());
+}
+
 }  // namespace
 }  // namespace hexcover
