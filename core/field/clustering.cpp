@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <optional>
 #include <queue>
 #include <set>
 #include <tuple>
@@ -253,13 +254,13 @@ double medianEdgeLength(const TriMesh& mesh) {
 /// lower vertex). A mesh much finer in one place than in another resolves the zeros of the
 /// smoothest field there as separate nodes a fraction of an edge apart (six +1/6 at the dense
 /// pole of a graded sphere), where a uniform mesh has one node of high order. A group stays
-/// apart when the angle defects within `reach` of its first node carry at least half of its
-/// index (N Σ K_v / 2π). The replaced nodes' vertices are appended to `replaced`.
+/// apart where the edges around its nodes average at least kCoincidentFinerThan of the mesh's
+/// median edge, and when the angle defects within `reach` of its first node carry at least half
+/// of its index (N Σ K_v / 2π). The replaced nodes' vertices are appended to `replaced`.
 std::vector<ClusterNode> mergeCoincidentNodes(const TriMesh& mesh, GeodesicBall& ball,
                                               const std::vector<ClusterNode>& nodes,
                                               const std::vector<double>& angleDefect, int n,
                                               double radius, double reach, int minIndex,
-                                              double typicalEdgeLength,
                                               std::vector<int>& replaced) {
   const auto position = [&](int k) {
     return toEigen(mesh.point(OpenMesh::VertexHandle(nodes[k].vertex)));
@@ -268,6 +269,7 @@ std::vector<ClusterNode> mergeCoincidentNodes(const TriMesh& mesh, GeodesicBall&
   for (std::size_t k = 0; k < nodes.size(); ++k) nodeAt[nodes[k].vertex] = static_cast<int>(k);
   std::vector<char> grouped(nodes.size(), 0), mergedAway(nodes.size(), 0);
   std::vector<ClusterNode> result;
+  std::optional<double> typicalEdgeLength;  // the median edge, measured when a group needs it
   for (std::size_t k = 0; k < nodes.size(); ++k) {
     if (grouped[k] || nodes[k].index == 0) continue;
     // Breadth-first over like-signed nodes within `radius` of a member.
@@ -293,7 +295,8 @@ std::vector<ClusterNode> mergeCoincidentNodes(const TriMesh& mesh, GeodesicBall&
         lengthSum += mesh.calc_edge_length(h);
         edges += 1.0;
       }
-    if (!(lengthSum < kCoincidentFinerThan * typicalEdgeLength * edges)) continue;
+    if (!typicalEdgeLength) typicalEdgeLength = medianEdgeLength(mesh);
+    if (!(lengthSum < kCoincidentFinerThan * *typicalEdgeLength * edges)) continue;
     // Where the Gauss curvature within `reach` carries half of the index or more (the tip of an
     // elongated ellipsoid), the zeros sit where the surface turns: they stay.
     double curvature = 0.0;
@@ -329,9 +332,9 @@ ClusteringResult splitHighOrderNodes(const TriMesh& mesh, const EdgeGraph& graph
   ClusteringResult result;
   const auto position = [&](int v) { return toEigen(mesh.point(OpenMesh::VertexHandle(v))); };
   GeodesicBall ball(graph);
-  const std::vector<ClusterNode> merged = mergeCoincidentNodes(
-      mesh, ball, nodes, angleDefect, n, kCoincidentFraction * dSing, 0.5 * dSing,
-      kCoincidentMinIndex, medianEdgeLength(mesh), result.collapsedVertices);
+  const std::vector<ClusterNode> merged =
+      mergeCoincidentNodes(mesh, ball, nodes, angleDefect, n, kCoincidentFraction * dSing,
+                           0.5 * dSing, kCoincidentMinIndex, result.collapsedVertices);
   std::vector<char> taken(graph.vertices(), 0);
   for (const auto& node : merged) taken[node.vertex] = 1;
   for (const auto& node : merged) {
