@@ -9,6 +9,7 @@
 #include <set>
 #include <utility>
 
+#include "core/common/median.h"
 #include "core/extract/boundary.h"
 #include "core/extract/fan_geometry.h"
 
@@ -16,12 +17,6 @@ namespace hexcover::extract_detail {
 namespace {
 
 using HH = TriMesh::HalfedgeHandle;
-
-double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
-}
 
 /// The input's boundary loops (vertex positions in face order, surface on the left) and the
 /// component of each.

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "core/common/concurrency.h"
+#include "core/common/median.h"
 
 namespace hexcover::field {
 namespace {
@@ -242,10 +243,7 @@ double medianEdgeLength(const TriMesh& mesh) {
   std::vector<double> lengths;
   lengths.reserve(mesh.n_edges());
   for (const auto e : mesh.edges()) lengths.push_back(mesh.calc_edge_length(e));
-  if (lengths.empty()) return 0.0;
-  const auto middle = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2);
-  std::nth_element(lengths.begin(), middle, lengths.end());
-  return *middle;
+  return median(std::move(lengths));
 }
 
 /// `nodes` with every group of like-signed nodes that are transitively closer than `radius`

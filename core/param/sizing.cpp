@@ -4,8 +4,10 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "core/common/error.h"
+#include "core/common/median.h"
 #include "core/param/lattice.h"
 
 namespace hexcover {
@@ -31,16 +33,15 @@ std::vector<double> curvatureSizing(const std::vector<double>& absMaxCurvature, 
   if (absMaxCurvature.empty()) throw Error(ErrorCode::InvalidOption, "no curvature values given");
   if (!(minScale > 0.0 && minScale <= maxScale))
     throw Error(ErrorCode::InvalidOption, "sizing range must satisfy 0 < min ≤ max");
-  std::vector<double> sorted;
+  std::vector<double> finite;
   for (const double k : absMaxCurvature)
-    if (std::isfinite(k)) sorted.push_back(std::abs(k));
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  const double median = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
+    if (std::isfinite(k)) finite.push_back(std::abs(k));
+  const double typical = median(std::move(finite));
   std::vector<double> sizing(absMaxCurvature.size(), 1.0);
-  if (!(median > 0.0)) return sizing;
+  if (!(typical > 0.0)) return sizing;
   for (std::size_t v = 0; v < sizing.size(); ++v) {
-    const double k = std::isfinite(absMaxCurvature[v]) ? std::abs(absMaxCurvature[v]) : median;
-    sizing[v] = std::clamp(k / median, minScale, maxScale);
+    const double k = std::isfinite(absMaxCurvature[v]) ? std::abs(absMaxCurvature[v]) : typical;
+    sizing[v] = std::clamp(k / typical, minScale, maxScale);
   }
   return sizing;
 }
