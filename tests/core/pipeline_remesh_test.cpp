@@ -52,34 +52,6 @@ TEST(PipelineRemesh, IcosphereMeetsTheQualityFloors) {
   EXPECT_TRUE(result.warnings.empty()) << result.warnings.front();
 }
 
-// A regression guard: these shared meshes met every floor when it was written (fertility has
-// genus 4 and 52 singularities; feline, genus 2 and 140, since the surface fit of extraction;
-// camelhead and the open Schwarz P cell since the strip gives the front vertices valence 6; the
-// Stanford bunny, with 5 holes, since boundary samples weigh angles against the floors; the
-// rocker arm, genus 1 with sharp creases, since feature snapping moves part of the way; the
-// Max Planck bust, a scan with folds narrower than an edge, since balancing and the bound on
-// the conformal scale's growth; fandisk, a CAD model with 24 crease corners, since creases lie
-// on lattice lines and relaxation descends on the angles within its deviation bounds).
-class PipelineFloorMesh : public ::testing::TestWithParam<std::string> {};
-
-TEST_P(PipelineFloorMesh, KeepsMeetingTheQualityFloors) {
-  HEXCOVER_SHARED_MESH_OR_SKIP(path, "clean/" + GetParam());
-  const PolygonSoup soup = readMesh(path);
-  expectQualityFloors(remesh(soup, quarterOf(test::referencedVertices(soup))), GetParam());
-}
-
-INSTANTIATE_TEST_SUITE_P(Clean, PipelineFloorMesh,
-                         ::testing::Values("camelhead.off", "fandisk.obj", "feline.off",
-                                           "fertility_28k.obj", "icosphere.obj",
-                                           "max-planck_decimated.obj", "rocker-arm.obj",
-                                           "schwarzp_cell_open.obj", "stanford-bunny.obj",
-                                           "torus.off"),
-                         [](const auto& info) {
-                           std::string name = info.param.substr(0, info.param.find('.'));
-                           std::replace(name.begin(), name.end(), '-', '_');
-                           return name;
-                         });
-
 /// The file at `path` remeshed to `target` vertices, checked to have taken more than one run and
 /// to have come back with the input's topology and within 10% of the target.
 RemeshResult remeshRedoneToVertexCount(const std::filesystem::path& path, long long target) {
