@@ -57,7 +57,8 @@ void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u, E
 /// Local fold-over relaxation: re-solves only the real unknowns of the vertices within `rings`
 /// edge rings of a flipped triangle (everything else held), with the faces there stiffened as in
 /// the global loop (weight 1 + min(5·relative misfit, 20), doubled at flipped triangles), a few
-/// times per region; the region doubles while triangles stay flipped. A small sparse solve per
+/// times per region; the region doubles while triangles stay flipped, up to a fifth of the real
+/// unknowns (the global stiffening re-solves larger ones at a lower cost). A small sparse solve per
 /// step instead of a refactorization of the whole system. Keeps a step only when it leaves fewer
 /// flipped triangles and no more degenerate ones; returns the number of local solves.
 int relaxFoldsLocally(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
