@@ -134,6 +134,7 @@ void stiffen(const Problem& p, int maxIterations, Eigen::VectorXd& faceWeight, I
     p.system.setFaceWeights(faceWeight, false);
     it = iterateAt(p, p.system.withReals(it.x.tail(integerCount)));
     ++result.stiffeningIterations;
+    context.report("parameterization", 0.7 + 0.25 * result.stiffeningIterations / maxIterations);
     // Stiffening moves the real unknowns; a rounding move may now remove what is left.
     if (it.orientation.flipped > 0 || it.orientation.degenerate > 0)
       param_detail::repairRounding(p.mesh, p.cm, p.unknowns, p.system, p.n, p.threads, it.x,
