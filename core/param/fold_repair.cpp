@@ -234,14 +234,14 @@ int relaxFoldsLocally(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
           localColumn[u.vertexColumn[vh.idx()] + j] = static_cast<int>(columns.size());
           columns.push_back(u.vertexColumn[vh.idx()] + j);
         }
+    if (columns.empty()) continue;
+    if (static_cast<double>(columns.size()) > kLargestRegionShare * u.realCount) break;
     std::vector<int> faces;  // faces whose rows involve a region column
     for (const auto fh : mesh.faces()) {
       bool touches = false;
       for (const auto vh : fh.vertices()) touches = touches || depth[vh.idx()] >= 0;
       if (touches && ls.faceArea[fh.idx()] > 0.0) faces.push_back(fh.idx());
     }
-    if (columns.empty()) continue;
-    if (static_cast<double>(columns.size()) > kLargestRegionShare * u.realCount) break;
     std::vector<int> localRow(ls.target.size(), -1);
     for (std::size_t k = 0; k < faces.size(); ++k)
       for (int r = 0; r < kRowsPerFace; ++r)
