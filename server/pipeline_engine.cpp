@@ -24,9 +24,11 @@ struct StageSpan {
   double begin;
   double end;
 };
+constexpr char kWriting[] = "writing";  // the engine's own stage, after the pipeline's
 constexpr StageSpan kStageSpans[] = {
-    {"repair", 0.00, 0.05},     {"field", 0.05, 0.30},   {"parameterization", 0.30, 0.70},
-    {"extraction", 0.70, 0.80}, {"metrics", 0.80, 0.95}, {"writing", 0.95, 1.00},
+    {stage::kRepair, 0.00, 0.05},           {stage::kField, 0.05, 0.30},
+    {stage::kParameterization, 0.30, 0.70}, {stage::kExtraction, 0.70, 0.80},
+    {stage::kMetrics, 0.80, 0.95},          {kWriting, 0.95, 1.00},
 };
 
 /// Turns the pipeline's (stage, fraction of stage) into a monotone fraction of the whole job.
@@ -108,7 +110,7 @@ JobOutcome PipelineEngine::run(const JobInput& input, const RunContext& context)
     throw;
   }
 
-  progress.report("writing", 0.0);
+  progress.report(kWriting, 0.0);
   JobOutcome outcome;
   const PolygonSoup triangles = toPolygonSoup(result.remesh.triangles);
   for (const char* format : {"obj", "ply", "off", "stl", "glb"})
@@ -121,7 +123,7 @@ JobOutcome PipelineEngine::run(const JobInput& input, const RunContext& context)
                 format, input.outputDir, outcome.results);
   for (const char* format : {"obj", "glb"})
     writeResult(result.textured, "textured", format, input.outputDir, outcome.results);
-  progress.report("writing", 1.0);
+  progress.report(kWriting, 1.0);
 
   outcome.inputReport = toJson(result.inputReport);
   nlohmann::json metrics = toJson(result.metrics);

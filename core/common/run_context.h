@@ -9,6 +9,16 @@
 
 namespace hexcover {
 
+/// The pipeline's stages, as its progress reports and its timings name them (the server places a
+/// job's progress by these names).
+namespace stage {
+inline constexpr char kRepair[] = "repair";
+inline constexpr char kField[] = "field";
+inline constexpr char kParameterization[] = "parameterization";
+inline constexpr char kExtraction[] = "extraction";
+inline constexpr char kMetrics[] = "metrics";
+}  // namespace stage
+
 struct RunContext {
   /// Called with the stage name and the fraction of that stage done, in [0, 1]. May be empty.
   std::function<void(std::string_view stage, double fraction)> progress;

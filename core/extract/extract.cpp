@@ -90,7 +90,7 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
   std::optional<ClosestPointQuery> inputQuery;  // built for the fit, also read by the quad steps
   {
     ScopedTimer timer(report.timings, "repair and boundary");
-    context.report("extraction", 0.7);
+    context.report(stage::kExtraction, 0.7);
     context.throwIfCanceled();
     dropDegenerateAndOverlapping(out.triangles, report);
     if (componentCount > 0) closeBoundaries(mesh, faceComponent, options, out, report);
@@ -114,7 +114,7 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
   const bool onlyCopies = componentCount > 0 && report.componentsKept == componentCount;
   if (!onlyCopies) {
     ScopedTimer timer(report.timings, "surface fit");
-    context.report("extraction", 0.8);
+    context.report(stage::kExtraction, 0.8);
     context.throwIfCanceled();
     if (options.fitToSurface && result.triangles.n_faces() > 0) {
       inputQuery.emplace(mesh);
@@ -160,10 +160,10 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     result.quads = pairSquares(result.triangles, partner);
   } else {
     ScopedTimer timer(report.timings, "hexagonal dual");
-    context.report("extraction", 0.9);
+    context.report(stage::kExtraction, 0.9);
     result.hexDual = hexagonalDual(result.triangles);
   }
-  context.report("extraction", 1.0);
+  context.report(stage::kExtraction, 1.0);
   return result;
 }
 

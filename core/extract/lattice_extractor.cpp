@@ -381,7 +381,7 @@ class LatticeExtractor {
 void extractLattice(const TriMesh& mesh, const Parameterization& param,
                     const std::vector<int>& faceComponent, Assembly& out, ExtractionReport& report,
                     const RunContext& context) {
-  context.report("extraction", 0.0);
+  context.report(stage::kExtraction, 0.0);
   out.latticeOrder = param.n;
   const ExactChart chart = [&] {
     ScopedTimer timer(report.timings, "sanitize");
@@ -390,11 +390,11 @@ void extractLattice(const TriMesh& mesh, const Parameterization& param,
   LatticeExtractor extractor(mesh, chart, faceComponent, report, context);
   {
     ScopedTimer timer(report.timings, "lattice points");
-    context.report("extraction", 0.1);
+    context.report(stage::kExtraction, 0.1);
     extractor.emitPoints(out);
   }
   ScopedTimer timer(report.timings, param.n == 4 ? "lattice squares" : "lattice triangles");
-  context.report("extraction", 0.3);
+  context.report(stage::kExtraction, 0.3);
   extractor.emitCells(out);
 }
 

@@ -254,7 +254,7 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
   Timings timings;
   const auto step = [&](double fraction) {
     context.throwIfCanceled();
-    context.report("field", fraction);
+    context.report(stage::kField, fraction);
   };
 
   step(0.0);
@@ -410,7 +410,7 @@ RosyField computeRosyField(const TriMesh& mesh, const FieldOptions& options,
   result.singularityDistance = dSing;
   result.timings = std::move(timings);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  context.report("field", 1.0);
+  context.report(stage::kField, 1.0);
   return result;
 }
 

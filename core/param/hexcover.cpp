@@ -134,7 +134,8 @@ void stiffen(const Problem& p, int maxIterations, Eigen::VectorXd& faceWeight, I
     p.system.setFaceWeights(faceWeight, false);
     it = iterateAt(p, p.system.withReals(it.x.tail(integerCount)));
     ++result.stiffeningIterations;
-    context.report("parameterization", 0.7 + 0.25 * result.stiffeningIterations / maxIterations);
+    context.report(stage::kParameterization,
+                   0.7 + 0.25 * result.stiffeningIterations / maxIterations);
     // Stiffening moves the real unknowns; a rounding move may now remove what is left.
     if (it.orientation.flipped > 0 || it.orientation.degenerate > 0)
       param_detail::repairRounding(p.mesh, p.cm, p.unknowns, p.system, p.n, p.threads, it.x,
@@ -277,7 +278,7 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
   // The conformal scale (a solve on the whole mesh) runs on a second thread while the cut graph,
   // the unknowns, the least squares' matrix and the symbolic analysis of its normal equations,
   // none of which depends on the lattice scale, are built on this one.
-  context.report("parameterization", 0.0);
+  context.report(stage::kParameterization, 0.0);
   std::vector<double> conformal;
   Timings sideTimings;
   CutGraph cut;
@@ -341,7 +342,7 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
     }
   for (std::size_t f = 0; f < conformal.size(); ++f) faceScale[f] *= conformal[f];
   param_detail::setLatticeScale(faceScale, options.creaseWeight, creases, ls);
-  context.report("parameterization", 0.2);
+  context.report(stage::kParameterization, 0.2);
 
   // Local step: the minimizer over all unknowns.
   const int integerCount = unknowns.integerCount;
@@ -355,7 +356,7 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
   }
   result.localEnergy = system.energy(x);
   context.throwIfCanceled();
-  context.report("parameterization", 0.4);
+  context.report(stage::kParameterization, 0.4);
 
   // Global step: the integer unknowns rounded, then the final solve.
   {
@@ -372,7 +373,7 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
       x = system.withReals(x.tail(integerCount));
     }
   }
-  context.report("parameterization", 0.7);
+  context.report(stage::kParameterization, 0.7);
 
   // Fold-overs and degenerate triangles.
   const Problem problem{mesh, cm, unknowns, ls, system, faceScale, n, options.threads};
@@ -390,7 +391,7 @@ Parameterization computeParameterization(const TriMesh& mesh, const RosyField& f
   ScopedTimer timer(result.timings, "output");
   storeSolution(mesh, field, cut, cm, unknowns, solution, result);
   result.distortion = measureDistortion(mesh, geometry, faceScale, n, result.cornerCoords);
-  context.report("parameterization", 1.0);
+  context.report(stage::kParameterization, 1.0);
   return result;
 }
 

@@ -218,12 +218,12 @@ Remeshing remeshAlongField(const RosyField& field, const LatticeRuns& runs, Timi
     LatticeRun current;
     current.param = computeParameterization(runs.mesh, field, paramOptions, context);
     h = current.param.edgeLength;
-    addTiming(timings, "parameterization", secondsSince(start));
+    addTiming(timings, stage::kParameterization, secondsSince(start));
     context.throwIfCanceled();
 
     start = Clock::now();
     current.remesh = extractRemesh(runs.mesh, current.param, runs.extractOptions, context);
-    addTiming(timings, "extraction", secondsSince(start));
+    addTiming(timings, stage::kExtraction, secondsSince(start));
     // A component copied because its lattice triangles had another topology counts as a
     // topology miss, and so does, when the lattice may be refined, a remesh that is the input
     // copied whole (no component took the lattice): their vertices do not measure h, and the
@@ -275,16 +275,16 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   using Clock = std::chrono::steady_clock;
 
   // 1. Repair.
-  context.report("repair", 0.0);
+  context.report(stage::kRepair, 0.0);
   RepairedMesh repaired;
   {
-    ScopedTimer timer(result.timings, "repair");
+    ScopedTimer timer(result.timings, stage::kRepair);
     RepairOptions repairOptions;
     repairOptions.maxFaces = options.maxFaces;
     repaired = repairMesh(input, repairOptions);
   }
   result.inputReport = repaired.report;
-  context.report("repair", 1.0);
+  context.report(stage::kRepair, 1.0);
   context.throwIfCanceled();
 
   // A target of a quarter of the input's vertices by default, and h of a uniform lattice for it.
@@ -345,7 +345,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
     // d_sing = 0 means "no clustering" to the caller; the field reads 0 as "use the default".
     fieldOptions.clusterSingularities = result.singularityDistance > 0.0;
     RosyField field = computeRosyField(mesh, fieldOptions, context);
-    addTiming(result.timings, "field", secondsSince(start));
+    addTiming(result.timings, stage::kField, secondsSince(start));
     return field;
   };
   // Edges beyond kInputEdgeInEdgeLengths are split first. Interior singularities of a higher
@@ -392,7 +392,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   std::optional<RosyField> compatibleField =
       computeCompatibleCreaseField(mesh, field, fieldOptions, context);
   if (compatibleField) {
-    addTiming(result.timings, "field", secondsSince(start));
+    addTiming(result.timings, stage::kField, secondsSince(start));
     context.throwIfCanceled();
     Remeshing compatible = remeshAlongField(*compatibleField, runs, result.timings, context);
     result.sizeIterations += compatible.runs;
@@ -408,7 +408,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
       start = Clock::now();
       QualityReport all = measureRemesh(chosen.best.remesh, reference);
       QualityReport fewer = measureRemesh(compatible.best.remesh, reference);
-      addTiming(result.timings, "metrics", secondsSince(start));
+      addTiming(result.timings, stage::kMetrics, secondsSince(start));
       const auto toGoals = [&](const QualityReport& q) {
         return q.angleSd / kGoalAngleSd + q.distance->hausdorffPct / kGoalHausdorffPct;
       };
@@ -433,14 +433,14 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
     ScopedTimer timer(result.timings, "texture");
     result.textured = texturedSoup(mesh, param);
   }
-  context.report("metrics", 0.0);
+  context.report(stage::kMetrics, 0.0);
   if (!metrics) {
     const auto start = Clock::now();
     metrics = measureRemesh(result.remesh, reference);
-    addTiming(result.timings, "metrics", secondsSince(start));
+    addTiming(result.timings, stage::kMetrics, secondsSince(start));
   }
   result.metrics = std::move(*metrics);
-  context.report("metrics", 1.0);
+  context.report(stage::kMetrics, 1.0);
   result.peakMemoryMiB = peakMemoryMiB();
   return result;
 }
