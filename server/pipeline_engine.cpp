@@ -26,9 +26,13 @@ struct StageSpan {
 };
 constexpr char kWriting[] = "writing";  // the engine's own stage, after the pipeline's
 constexpr StageSpan kStageSpans[] = {
-    {stage::kRepair, 0.00, 0.05},           {stage::kField, 0.05, 0.30},
-    {stage::kParameterization, 0.30, 0.70}, {stage::kExtraction, 0.70, 0.80},
-    {stage::kMetrics, 0.80, 0.95},          {kWriting, 0.95, 1.00},
+    {stage::kRepair, 0.00, 0.05},
+    {stage::kField, 0.05, 0.30},
+    {stage::kParameterization, 0.30, 0.62},
+    {stage::kExtraction, 0.62, 0.72},
+    {stage::kRerun, 0.72, 0.82},
+    {stage::kMetrics, 0.82, 0.95},
+    {kWriting, 0.95, 1.00},
 };
 
 /// Turns the pipeline's (stage, fraction of stage) into a monotone fraction of the whole job.

@@ -16,6 +16,9 @@ inline constexpr char kRepair[] = "repair";
 inline constexpr char kField[] = "field";
 inline constexpr char kParameterization[] = "parameterization";
 inline constexpr char kExtraction[] = "extraction";
+/// A parameterization and extraction after the first (the vertex count or the input's topology
+/// was missed, or along a second field): one stage whose fraction only rises.
+inline constexpr char kRerun[] = "rerun";
 inline constexpr char kMetrics[] = "metrics";
 }  // namespace stage
 

@@ -131,6 +131,38 @@ struct LatticeRuns {
   bool mayRefine;  ///< h may shrink for topology (h from K below half the input's vertices)
 };
 
+/// Progress of the parameterization and extraction runs. The first reports its stages as they are;
+/// each later one reports stage::kRerun over half of what remains of it (0 to 1/2, then to 3/4,
+/// …), as their number is not known in advance. The parameterization takes kParameterizationShare
+/// of a rerun.
+class LatticeRunProgress {
+ public:
+  explicit LatticeRunProgress(const RunContext& job) : job_(job) {}
+
+  /// The context of the next run.
+  RunContext next() {
+    ++started_;
+    if (started_ == 1) return job_;
+    constexpr double kParameterizationShare = 0.7;
+    const double width = std::ldexp(1.0, -(started_ - 1));  // 1/2, 1/4, …
+    const double begin = 1.0 - 2.0 * width;
+    RunContext context;
+    context.cancelRequested = job_.cancelRequested;
+    context.progress = [job = job_, begin, width](std::string_view stage, double fraction) {
+      if (stage != stage::kParameterization && stage != stage::kExtraction) return;
+      const double done = stage == stage::kParameterization
+                              ? kParameterizationShare * fraction
+                              : kParameterizationShare + (1.0 - kParameterizationShare) * fraction;
+      job.report(stage::kRerun, begin + width * done);
+    };
+    return context;
+  }
+
+ private:
+  const RunContext& job_;
+  int started_ = 0;
+};
+
 /// The best run along one field, with the runs it took.
 struct Remeshing {
   LatticeRun best;
@@ -193,7 +225,7 @@ std::vector<std::string> remeshWarnings(const Remeshing& chosen, const RemeshOpt
 /// with more vertices (and a warning that says why) rather than the input copied unchanged
 /// (fertility at K = 218: 353 vertices; the input has 13,971) or without a limb.
 Remeshing remeshAlongField(const RosyField& field, const LatticeRuns& runs, Timings& timings,
-                           const RunContext& context) {
+                           LatticeRunProgress& progress) {
   constexpr int kMaxRuns = 4;
   constexpr double kTopologyRetryScale = 0.97;
   constexpr double kCoarseTopologyScale = 0.85;
@@ -206,6 +238,7 @@ Remeshing remeshAlongField(const RosyField& field, const LatticeRuns& runs, Timi
   const double coarsest =
       runs.sizing.empty() ? 1.0 : 1.0 / *std::min_element(runs.sizing.begin(), runs.sizing.end());
   for (int run = 1;; ++run) {
+    const RunContext context = progress.next();
     auto start = Clock::now();
     ParamOptions paramOptions;
     // The first run without an edge length derives h from the target (the parameterization
@@ -372,7 +405,8 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
                          options.targetVertices.has_value(),
                          options.edgeLength,
                          !options.edgeLength && 2 * target < inputVertices};
-  Remeshing chosen = remeshAlongField(field, runs, result.timings, context);
+  LatticeRunProgress runProgress(context);
+  Remeshing chosen = remeshAlongField(field, runs, result.timings, runProgress);
   result.sizeIterations = chosen.runs;
 
   // Crease lines that meet at angles other than multiples of 60° (a box's 90° corners) cannot all
@@ -394,7 +428,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   if (compatibleField) {
     addTiming(result.timings, stage::kField, secondsSince(start));
     context.throwIfCanceled();
-    Remeshing compatible = remeshAlongField(*compatibleField, runs, result.timings, context);
+    Remeshing compatible = remeshAlongField(*compatibleField, runs, result.timings, runProgress);
     result.sizeIterations += compatible.runs;
     // What comes before the shape: the topology, no part lost, the components copied, the
     // vertex count.

@@ -7,9 +7,11 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/geometry/closest_point.h"
@@ -662,6 +664,37 @@ TEST(PipelineRemesh, ReportsProgressPerStageAndTimings) {
   EXPECT_EQ(result.textured.cornerTexcoords.size(), result.textured.cornerVertices.size());
   // The dual has one polygon per remesh vertex.
   EXPECT_EQ(result.remesh.hexDual.faceCount(), result.remesh.triangles.n_vertices());
+}
+
+// Runs after the first (here along the box's second, crease-compatible field) report one stage,
+// "rerun", whose fraction only rises: the parameterization and extraction are done by then, and
+// reporting them again would leave a job's progress standing still.
+TEST(PipelineRemesh, RunsAfterTheFirstReportTheirOwnRisingStage) {
+  const PolygonSoup box = toPolygonSoup(makeBox(1.0, 0.8, 0.6, 12));
+  std::vector<std::pair<std::string, double>> reports;
+  RunContext context;
+  context.progress = [&](std::string_view stage, double fraction) {
+    reports.emplace_back(std::string(stage), fraction);
+  };
+  RemeshOptions options;
+  options.targetVertices = 300;
+  const RemeshResult result = remesh(box, options, context);
+  ASSERT_GT(result.sizeIterations, 1);
+  const auto firstRerun = std::find_if(reports.begin(), reports.end(),
+                                       [](const auto& report) { return report.first == "rerun"; });
+  ASSERT_NE(firstRerun, reports.end());
+  double last = 0.0;
+  for (auto it = firstRerun; it != reports.end(); ++it) {
+    const auto& [stage, fraction] = *it;
+    EXPECT_NE(stage, "parameterization");
+    EXPECT_NE(stage, "extraction");
+    if (stage != "rerun") continue;
+    EXPECT_GE(fraction, last);
+    EXPECT_LE(fraction, 1.0);
+    last = fraction;
+  }
+  // Each of the sizeIterations − 1 reruns ends at 1 − 2^−k.
+  EXPECT_NEAR(last, 1.0 - std::ldexp(1.0, 1 - result.sizeIterations), 1e-12);
 }
 
 TEST(PipelineRemesh, CancellationInsideAStageStopsTheRun) {
