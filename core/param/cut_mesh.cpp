@@ -235,13 +235,6 @@ Eigen::Vector2d wedgePosition(const Unknowns& u, int wedge, const Eigen::VectorX
   return p;
 }
 
-std::vector<std::int64_t> roundedFreeUnknowns(const Unknowns& u, const Eigen::VectorXd& x) {
-  std::vector<std::int64_t> rounded(u.freeColumn.size(), 0);
-  for (std::size_t variable = 0; variable < rounded.size(); ++variable)
-    if (u.freeColumn[variable] >= 0) rounded[variable] = std::llround(x[u.freeColumn[variable]]);
-  return rounded;
-}
-
 std::int64_t integerValue(const Unknowns& u, const std::vector<std::int64_t>& rounded, int scalar) {
   std::int64_t value = 0;
   for (const auto& [variable, c] : u.elimination.expression[scalar]) value += c * rounded[variable];

@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -86,8 +87,14 @@ std::vector<std::vector<int>> integerGroups(const TriMesh& mesh, const CutGraph&
 Eigen::Vector2d wedgePosition(const Unknowns& u, int wedge, const Eigen::VectorXd& x);
 
 /// Per elimination variable: its free unknown in x rounded to an integer (0 for the others, which
-/// no expression uses).
-std::vector<std::int64_t> roundedFreeUnknowns(const Unknowns& u, const Eigen::VectorXd& x);
+/// no expression uses). `Solution` is read unknown by unknown (x[column]).
+template <typename Solution>
+std::vector<std::int64_t> roundedFreeUnknowns(const Unknowns& u, const Solution& x) {
+  std::vector<std::int64_t> rounded(u.freeColumn.size(), 0);
+  for (std::size_t variable = 0; variable < rounded.size(); ++variable)
+    if (u.freeColumn[variable] >= 0) rounded[variable] = std::llround(x[u.freeColumn[variable]]);
+  return rounded;
+}
 
 /// Value of integer scalar `scalar` (2·pair + j) from the rounded free unknowns.
 std::int64_t integerValue(const Unknowns& u, const std::vector<std::int64_t>& rounded, int scalar);

@@ -3,6 +3,7 @@
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <set>
 
 #include "core/common/concurrency.h"
@@ -23,25 +24,35 @@ std::int64_t roundHalfAway(double v) {
   return t + static_cast<std::int64_t>(rest >= 0.5) - static_cast<std::int64_t>(rest <= -0.5);
 }
 
+/// Lattice coordinates up to which the quantum is the finest, 2^-30 (see CornerSnapper).
+constexpr double kLargestForFinestQuantum = 262144.0;  // 2^18
+
 /// The exact corner coordinates of one solution x (see snapCoordinates), corner by corner: the
 /// quantum and the integer values are found for the whole mesh, a wedge's coordinates when asked.
+/// `Solution` is read unknown by unknown (x[column]).
+template <typename Solution>
 class CornerSnapper {
  public:
   using Vector2l = Eigen::Matrix<std::int64_t, 2, 1>;
 
-  CornerSnapper(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u, const Eigen::VectorXd& x,
-                int n)
-      : cm_(cm), u_(u), master_(mesh.n_vertices(), Eigen::Vector2d::Zero()), rotation_(n) {
-    const Eigen::Matrix2d toLattice = latticeBasis(n).inverse();
-    // Vertices without columns (isolated, deleted, paired or the gauge) stay at 0.
-    Eigen::Vector2d largestMaster(1.0, 1.0);
-    for (std::size_t v = 0; v < master_.size(); ++v) {
-      const int column = u.vertexColumn[v];
-      if (column < 0) continue;
-      master_[v] = toLattice * x.segment<2>(column);
-      largestMaster = largestMaster.cwiseMax(master_[v].cwiseAbs());
+  /// `masterBound`, when known: a bound of the masters' lattice coordinates |M⁻¹(u, v)|. At most
+  /// kLargestForFinestQuantum it gives the quantum without reading every master; else, or
+  /// without it, they are read.
+  CornerSnapper(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u, const Solution& x, int n,
+                std::optional<double> masterBound = std::nullopt)
+      : cm_(cm), u_(u), x_(x), toLattice_(latticeBasis(n).inverse()), rotation_(n) {
+    double largest = 1.0;
+    if (masterBound && *masterBound <= kLargestForFinestQuantum) {
+      largest = std::max(largest, *masterBound);
+    } else {
+      // Vertices without columns (isolated, deleted, paired or the gauge) stay at 0.
+      master_.assign(mesh.n_vertices(), Eigen::Vector2d::Zero());
+      for (std::size_t v = 0; v < master_.size(); ++v) {
+        if (u.vertexColumn[v] < 0) continue;
+        master_[v] = masterOf(static_cast<int>(v));
+        largest = std::max(largest, master_[v].cwiseAbs().maxCoeff());
+      }
     }
-    double largest = largestMaster.maxCoeff();
     const std::vector<std::int64_t> rounded = roundedFreeUnknowns(u, x);
     pairValue_.resize(2 * cm.pairCount);
     for (int scalar = 0; scalar < 2 * cm.pairCount; ++scalar) {
@@ -70,20 +81,59 @@ class CornerSnapper {
   }
 
  private:
+  /// M⁻¹(u, v) of a vertex with columns.
+  Eigen::Vector2d masterOf(int v) const {
+    const int column = u_.vertexColumn[v];
+    return toLattice_ * Eigen::Vector2d(x_[column], x_[column + 1]);
+  }
+
   Vector2l snappedMaster(int v) const {
     if (const int pair = cm_.vertexPair[v]; pair >= 0)
       return {pairValue_[2 * pair], pairValue_[2 * pair + 1]};
     if (u_.vertexColumn[v] < 0) return Vector2l::Zero();
-    return {roundHalfAway(master_[v].x() * scale_), roundHalfAway(master_[v].y() * scale_)};
+    const Eigen::Vector2d master = master_.empty() ? masterOf(v) : master_[v];
+    return {roundHalfAway(master.x() * scale_), roundHalfAway(master.y() * scale_)};
   }
 
   const CutMesh& cm_;
   const Unknowns& u_;
-  std::vector<Eigen::Vector2d> master_;  ///< #V, lattice coordinates M⁻¹(u, v)
+  const Solution& x_;
+  Eigen::Matrix2d toLattice_;
+  std::vector<Eigen::Vector2d> master_;  ///< #V when read for the quantum, else empty
   std::vector<std::int64_t> pairValue_;  ///< 2 per pair, in quanta
   std::vector<Eigen::Matrix<std::int64_t, 2, 2>> rotation_;  ///< R^k, k = 0 … n − 1
   int exponent_ = 0;
   double scale_ = 1.0;  ///< 2^exponent
+};
+
+/// A rounding repair's trial move of x, read unknown by unknown without forming it: the real
+/// unknowns plus move_k · response_k, k in order, the unit's integer unknowns moved and rounded
+/// (the same values as the move applied to a copy of x).
+class MovedSolution {
+ public:
+  MovedSolution(const Eigen::VectorXd& x, int realCount) : x_(x), realCount_(realCount) {}
+
+  void add(int column, double move, const Eigen::VectorXd& response) {
+    responses_.push_back({move, &response});
+    moved_.push_back({column, std::round(x_[column] + move)});
+  }
+
+  double operator[](int column) const {
+    if (column < realCount_) {
+      double value = x_[column];
+      for (const auto& [move, response] : responses_) value += move * (*response)[column];
+      return value;
+    }
+    for (const auto& [movedColumn, value] : moved_)
+      if (movedColumn == column) return value;
+    return x_[column];
+  }
+
+ private:
+  const Eigen::VectorXd& x_;
+  int realCount_;
+  std::vector<std::pair<double, const Eigen::VectorXd*>> responses_;
+  std::vector<std::pair<int, double>> moved_;
 };
 
 /// The sign of a parameter triangle's orientation from its corners in quanta (exact).
@@ -96,7 +146,8 @@ int orientationSign(const std::array<std::int64_t, 2>& a, const std::array<std::
 }
 
 /// The wedges of `cm` in quanta, as snapCoordinates.
-SnappedCoordinates snapAll(const CutMesh& cm, const CornerSnapper& snapper) {
+template <typename Solution>
+SnappedCoordinates snapAll(const CutMesh& cm, const CornerSnapper<Solution>& snapper) {
   SnappedCoordinates s;
   s.exponent = snapper.exponent();
   s.wedge.resize(cm.wedgeVertex.size());
@@ -142,7 +193,7 @@ std::vector<std::vector<int>> facesNearUnits(const TriMesh& mesh, const CutMesh&
 
 SnappedCoordinates snapCoordinates(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u,
                                    const Eigen::VectorXd& x, int n) {
-  return snapAll(cm, CornerSnapper(mesh, cm, u, x, n));
+  return snapAll(cm, CornerSnapper<Eigen::VectorXd>(mesh, cm, u, x, n));
 }
 
 bool fewerFaults(const Orientation& a, const Orientation& b) {
@@ -173,6 +224,8 @@ void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u, E
                     int n, int threads, Eigen::VectorXd& x, SnappedCoordinates& snapped,
                     Orientation& orientation, std::vector<bool>& flippedFaces) {
   const auto units = roundingUnits(u);
+  const Eigen::Matrix2d toLattice = latticeBasis(n).inverse();
+  const double toLatticeNorm = toLattice.cwiseAbs().rowwise().sum().maxCoeff();  // ‖M⁻¹‖∞
   std::vector<int> unitOfColumn(u.columns(), -1);
   for (std::size_t i = 0; i < units.size(); ++i)
     for (const int column : units[i]) unitOfColumn[column] = static_cast<int>(i);
@@ -234,6 +287,16 @@ void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u, E
         for (const int column : unit) candidate[column] = std::round(candidate[column]);
         return candidate;
       };
+      // A trial's moved solution is read where needed, not formed; the quantum of its snapped
+      // corners comes from a bound of its masters' lattice coordinates (see CornerSnapper).
+      std::vector<double> largestResponse(responses.size());
+      for (std::size_t k = 0; k < responses.size(); ++k)
+        largestResponse[k] = responses[k]->cwiseAbs().maxCoeff();
+      double largestMaster = 0.0;
+      for (std::size_t v = 0; v < mesh.n_vertices(); ++v)
+        if (const int column = u.vertexColumn[v]; column >= 0)
+          largestMaster =
+              std::max(largestMaster, (toLattice * x.segment<2>(column)).cwiseAbs().maxCoeff());
       // Most moves leave more faults (98% on feline at K = 779), mostly near the unit. The faulty
       // faces and those near the unit are judged first: more flipped among them than now in all
       // already rules a move out (91% of those moves there).
@@ -241,7 +304,16 @@ void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u, E
       for (std::size_t f = 0; f < cm.faceWedges.size(); ++f)
         if (flippedFaces[f] || degenerateFaces[f]) faulty.push_back(static_cast<int>(f));
       const auto judge = [&](const Trial& trial) {
-        const CornerSnapper snapper(mesh, cm, u, candidateOf(trial), n);
+        const auto& unit = units[order[trial.position]];
+        MovedSolution moved(x, realCount);
+        double reach = 0.0;  // bound of |Σ move_k · response_k|
+        for (std::size_t k = 0; k < unit.size(); ++k) {
+          moved.add(unit[k], trial.move[k], *responses[trial.firstResponse + k]);
+          reach += std::abs(trial.move[k]) * largestResponse[trial.firstResponse + k];
+        }
+        // Beyond rounding: the bound only has to be far below kLargestForFinestQuantum.
+        const double masterBound = (1.0 + 1e-9) * (largestMaster + toLatticeNorm * reach) + 1e-9;
+        const CornerSnapper snapper(mesh, cm, u, moved, n, masterBound);
         const auto flippedAt = [&](int f) {
           const auto& [z0, z1, z2] = cm.faceWedges[f];
           return orientationSign(snapper.wedge(z0), snapper.wedge(z1), snapper.wedge(z2)) < 0;
