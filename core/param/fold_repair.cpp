@@ -290,8 +290,8 @@ void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u, E
       // A trial's moved solution is read where needed, not formed; the quantum of its snapped
       // corners comes from a bound of its masters' lattice coordinates (see CornerSnapper).
       std::vector<double> largestResponse(responses.size());
-      for (std::size_t k = 0; k < responses.size(); ++k)
-        largestResponse[k] = responses[k]->cwiseAbs().maxCoeff();
+      for (std::size_t k = 0; k < responses.size(); ++k)  // none without real unknowns
+        largestResponse[k] = realCount > 0 ? responses[k]->cwiseAbs().maxCoeff() : 0.0;
       double largestMaster = 0.0;
       for (std::size_t v = 0; v < mesh.n_vertices(); ++v)
         if (const int column = u.vertexColumn[v]; column >= 0)
