@@ -157,7 +157,8 @@ SnappedCoordinates snapAll(const CutMesh& cm, const CornerSnapper<Solution>& sna
 
 /// Per rounding unit (unitOfColumn: the unit of each integer column, or −1): the faces with a
 /// corner that depends on it (through a wedge's row) and those within kNearRings vertex rings of
-/// them, where its moves flip triangles if anywhere.
+/// them: where its moves flip most of the triangles they flip (repairRounding judges them there
+/// first).
 std::vector<std::vector<int>> facesNearUnits(const TriMesh& mesh, const CutMesh& cm,
                                              const Unknowns& u,
                                              const std::vector<int>& unitOfColumn, int unitCount) {
