@@ -668,7 +668,7 @@ TEST(PipelineRemesh, ReportsProgressPerStageAndTimings) {
 
 // Runs after the first (here along the box's second, crease-compatible field) report one stage,
 // "rerun", whose fraction only rises: the parameterization and extraction are done by then, and
-// reporting them again would leave a job's progress standing still.
+// reporting them again would leave a job's progress standing still. They can be canceled.
 TEST(PipelineRemesh, RunsAfterTheFirstReportTheirOwnRisingStage) {
   const PolygonSoup box = toPolygonSoup(makeBox(1.0, 0.8, 0.6, 12));
   std::vector<std::pair<std::string, double>> reports;
@@ -695,6 +695,23 @@ TEST(PipelineRemesh, RunsAfterTheFirstReportTheirOwnRisingStage) {
   }
   // Each of the sizeIterations − 1 reruns ends at 1 − 2^−k.
   EXPECT_NEAR(last, 1.0 - std::ldexp(1.0, 1 - result.sizeIterations), 1e-12);
+
+  // A rerun can be canceled inside its stages, like the first run: before it ends (at 1/2).
+  bool rerunning = false;
+  double reached = 0.0;
+  context.progress = [&](std::string_view stage, double fraction) {
+    if (stage != "rerun") return;
+    rerunning = true;
+    reached = std::max(reached, fraction);
+  };
+  context.cancelRequested = [&] { return rerunning; };
+  try {
+    remesh(box, options, context);
+    ADD_FAILURE() << "not canceled in a rerun";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::Canceled);
+  }
+  EXPECT_LT(reached, 0.5);
 }
 
 TEST(PipelineRemesh, CancellationInsideAStageStopsTheRun) {
