@@ -107,8 +107,7 @@ class CornerSnapper {
 };
 
 /// A rounding repair's trial move of x, read unknown by unknown without forming it: the real
-/// unknowns plus move_k · response_k, k in order, the unit's integer unknowns moved and rounded
-/// (the same values as the move applied to a copy of x).
+/// unknowns plus move_k · response_k, k in order, the unit's integer unknowns moved and rounded.
 class MovedSolution {
  public:
   MovedSolution(const Eigen::VectorXd& x, int realCount) : x_(x), realCount_(realCount) {}
@@ -116,6 +115,14 @@ class MovedSolution {
   void add(int column, double move, const Eigen::VectorXd& response) {
     responses_.push_back({move, &response});
     moved_.push_back({column, std::round(x_[column] + move)});
+  }
+
+  /// The moved solution as a vector (the one that is kept).
+  Eigen::VectorXd formed() const {
+    Eigen::VectorXd moved(x_.size());
+    for (Eigen::Index column = 0; column < moved.size(); ++column)
+      moved[column] = (*this)[static_cast<int>(column)];
+    return moved;
   }
 
   double operator[](int column) const {
@@ -234,6 +241,23 @@ void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u, E
       facesNearUnits(mesh, cm, u, unitOfColumn, static_cast<int>(units.size()));
   std::vector<bool> degenerateFaces;  // kept up to date with flippedFaces below
   countOrientation(mesh, cm, snapped, nullptr, &degenerateFaces);
+  // What the trial moves are judged against, updated with x: the largest lattice coordinate of a
+  // master and the faulty faces. Most moves leave more faults (98% on feline at K = 779), mostly
+  // near the unit. The faulty faces and those near the unit are judged first: more flipped among
+  // them than now in all already rules a move out (91% of those moves there).
+  double largestMaster = 0.0;
+  std::vector<int> faulty;
+  const auto describeSolution = [&] {
+    largestMaster = 0.0;
+    for (std::size_t v = 0; v < mesh.n_vertices(); ++v)
+      if (const int column = u.vertexColumn[v]; column >= 0)
+        largestMaster =
+            std::max(largestMaster, (toLattice * x.segment<2>(column)).cwiseAbs().maxCoeff());
+    faulty.clear();
+    for (std::size_t f = 0; f < cm.faceWedges.size(); ++f)
+      if (flippedFaces[f] || degenerateFaces[f]) faulty.push_back(static_cast<int>(f));
+  };
+  describeSolution();
   for (int pass = 0; pass < 4 && (orientation.flipped > 0 || orientation.degenerate > 0); ++pass) {
     std::set<int> involved;
     for (std::size_t f = 0; f < cm.faceWedges.size(); ++f) {
@@ -278,42 +302,25 @@ void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u, E
         columns.insert(columns.end(), unit.begin(), unit.end());
       }
       const std::vector<const Eigen::VectorXd*> responses = system.realResponses(columns);
-      const auto candidateOf = [&](const Trial& trial) {
+      const auto movedBy = [&](const Trial& trial) {
         const auto& unit = units[order[trial.position]];
-        Eigen::VectorXd candidate = x;
-        for (std::size_t k = 0; k < unit.size(); ++k) {
-          candidate.head(realCount) += trial.move[k] * *responses[trial.firstResponse + k];
-          candidate[unit[k]] += trial.move[k];
-        }
-        for (const int column : unit) candidate[column] = std::round(candidate[column]);
-        return candidate;
+        MovedSolution moved(x, realCount);
+        for (std::size_t k = 0; k < unit.size(); ++k)
+          moved.add(unit[k], trial.move[k], *responses[trial.firstResponse + k]);
+        return moved;
       };
       // A trial's moved solution is read where needed, not formed; the quantum of its snapped
       // corners comes from a bound of its masters' lattice coordinates (see CornerSnapper).
       std::vector<double> largestResponse(responses.size());
       for (std::size_t k = 0; k < responses.size(); ++k)  // none without real unknowns
         largestResponse[k] = realCount > 0 ? responses[k]->cwiseAbs().maxCoeff() : 0.0;
-      double largestMaster = 0.0;
-      for (std::size_t v = 0; v < mesh.n_vertices(); ++v)
-        if (const int column = u.vertexColumn[v]; column >= 0)
-          largestMaster =
-              std::max(largestMaster, (toLattice * x.segment<2>(column)).cwiseAbs().maxCoeff());
-      // Most moves leave more faults (98% on feline at K = 779), mostly near the unit. The faulty
-      // faces and those near the unit are judged first: more flipped among them than now in all
-      // already rules a move out (91% of those moves there).
-      std::vector<int> faulty;
-      for (std::size_t f = 0; f < cm.faceWedges.size(); ++f)
-        if (flippedFaces[f] || degenerateFaces[f]) faulty.push_back(static_cast<int>(f));
       const auto judge = [&](const Trial& trial) {
-        const auto& unit = units[order[trial.position]];
-        MovedSolution moved(x, realCount);
         double reach = 0.0;  // bound of |Σ move_k · response_k|
-        for (std::size_t k = 0; k < unit.size(); ++k) {
-          moved.add(unit[k], trial.move[k], *responses[trial.firstResponse + k]);
+        for (std::size_t k = 0; k < units[order[trial.position]].size(); ++k)
           reach += std::abs(trial.move[k]) * largestResponse[trial.firstResponse + k];
-        }
         // Beyond rounding: the bound only has to be far below kLargestForFinestQuantum.
         const double masterBound = (1.0 + 1e-9) * (largestMaster + toLatticeNorm * reach) + 1e-9;
+        const MovedSolution moved = movedBy(trial);
         const CornerSnapper snapper(mesh, cm, u, moved, n, masterBound);
         const auto flippedAt = [&](int f) {
           const auto& [z0, z1, z2] = cm.faceWedges[f];
@@ -337,9 +344,10 @@ void repairRounding(const TriMesh& mesh, const CutMesh& cm, const Unknowns& u, E
         continue;
       }
       const Trial& trial = trials[static_cast<std::size_t>(better - outcome.begin())];
-      x = candidateOf(trial);
+      x = movedBy(trial).formed();
       snapped = snapCoordinates(mesh, cm, u, x, n);
       orientation = countOrientation(mesh, cm, snapped, &flippedFaces, &degenerateFaces);
+      describeSolution();
       improved = true;
       if (orientation.flipped == 0 && orientation.degenerate == 0) return;
       nextUnit = trial.position + 1;
