@@ -349,9 +349,10 @@ long long collapseLatticePointCopies(Assembly& out) {
   return collapses;
 }
 
-void keepComponentsTooSmallForTheLattice(const TriMesh& mesh, const std::vector<int>& faceComponent,
-                                         int componentCount, const ExtractOptions& options,
-                                         Assembly& out, ExtractionReport& report) {
+void keepComponentsTooSmallForTheLattice(const TriMesh& mesh, const TriMesh& given,
+                                         const std::vector<int>& faceComponent, int componentCount,
+                                         const ExtractOptions& options, Assembly& out,
+                                         ExtractionReport& report) {
   // The input components' topology, from the mesh's connectivity (each is one piece). Not
   // computeTopology (core/mesh/topology.h): its components join faces through shared vertices,
   // these through shared edges.
@@ -389,14 +390,14 @@ void keepComponentsTooSmallForTheLattice(const TriMesh& mesh, const std::vector<
     report.componentsKeptForTopology += otherTopology ? 1 : 0;
   }
   std::erase_if(out.triangles, [&](const Triangle& t) { return keep[out.component[t[0]]]; });
-  std::vector<int> copy(mesh.n_vertices(), -1);
-  for (const auto f : mesh.faces()) {
-    const int c = faceComponent[f.idx()];
+  std::vector<int> copy(given.n_vertices(), -1);
+  for (const auto f : given.faces()) {
+    const int c = vertexComponent[f.halfedge().to().idx()];
     if (!keep[c]) continue;
     Triangle copied;
     int k = 0;
     for (const auto v : f.vertices()) {
-      if (copy[v.idx()] < 0) copy[v.idx()] = out.addVertex(toEigen(mesh.point(v)), c);
+      if (copy[v.idx()] < 0) copy[v.idx()] = out.addVertex(toEigen(given.point(v)), c);
       copied[k++] = copy[v.idx()];
     }
     out.triangles.push_back(copied);

@@ -88,10 +88,13 @@ long long collapseLatticePointCopies(Assembly& out);
 /// Step 6: an input component is copied unchanged when no lattice triangle fits on it, or (Follow
 /// mode) when its lattice triangles do not have its topology (Euler characteristic, boundary
 /// loops, one piece): a component too small for the lattice, or one whose remesh would close a
-/// hole (counted apart: the pipeline redoes such a run on another lattice).
-void keepComponentsTooSmallForTheLattice(const TriMesh& mesh, const std::vector<int>& faceComponent,
-                                         int componentCount, const ExtractOptions& options,
-                                         Assembly& out, ExtractionReport& report);
+/// hole (counted apart: the pipeline redoes such a run on another lattice). The copy is taken
+/// from `given`: `mesh` itself, or the input that `mesh` refines (its vertices are the first of
+/// `mesh`'s, in the same components), so a kept component comes back as it was given.
+void keepComponentsTooSmallForTheLattice(const TriMesh& mesh, const TriMesh& given,
+                                         const std::vector<int>& faceComponent, int componentCount,
+                                         const ExtractOptions& options, Assembly& out,
+                                         ExtractionReport& report);
 
 /// The referenced vertices and the triangles as an OpenMesh mesh; faces OpenMesh refuses (they
 /// would make a vertex or edge non-manifold) are counted, and the holes they leave (boundary

@@ -65,7 +65,8 @@ std::vector<int> faceComponents(const TriMesh& mesh, int& count) {
 }  // namespace
 
 Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
-                     const ExtractOptions& options, const RunContext& context) {
+                     const ExtractOptions& options, const RunContext& context,
+                     const TriMesh* given) {
   options.validate();
   if (param.n != 6 && param.n != 4)
     throw Error(ErrorCode::InvalidOption,
@@ -76,6 +77,10 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
                 "the parameterization does not belong to this mesh (" +
                     std::to_string(param.cornerCoords.size()) + " corner coordinates for " +
                     std::to_string(mesh.n_halfedges()) + " halfedges)");
+  if (given && given->n_vertices() > mesh.n_vertices())
+    throw Error(ErrorCode::InvalidOption,
+                "the given input has more vertices (" + std::to_string(given->n_vertices()) +
+                    ") than the mesh that refines it (" + std::to_string(mesh.n_vertices()) + ")");
   Remesh result;
   ExtractionReport& report = result.report;
   int componentCount = 0;
@@ -98,7 +103,8 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     // Two copies of one lattice point merge into a cone of the triangle lattice (valence 4).
     if (!quads) report.latticePointCopiesMerged = collapseLatticePointCopies(out);
     const std::size_t remeshedVertices = out.positions.size();  // then the copied components'
-    keepComponentsTooSmallForTheLattice(mesh, faceComponent, componentCount, options, out, report);
+    keepComponentsTooSmallForTheLattice(mesh, given ? *given : mesh, faceComponent, componentCount,
+                                        options, out, report);
     result.triangles = buildMesh(out, report, vertexOf);
     if (quads) {
       partner = squarePartners(result.triangles, out.squares, vertexOf);

@@ -42,8 +42,8 @@
 //    of squares (valence 4 at the front).
 // 6. Components of the input whose remesh has fewer triangles than one hexagon (6), or not the
 //    component's topology (Euler characteristic, boundary loops, one piece), are copied
-//    unchanged. When every component is copied, steps 7 and 8 are skipped: the output is the
-//    input as it is.
+//    unchanged (as given, before any refinement). When every component is copied, steps 7 and 8
+//    are skipped: the output is the input as it is.
 // 7. Fit (surface_fit.h): vertices move over the input surface where the lattice cuts off a
 //    sharp crease or tip (feature snapping), next to poor triangles (smoothing) and where the
 //    angles stray from 60° (relaxation), when that does not raise the local deviation from the
@@ -179,11 +179,14 @@ struct Remesh {
 /// Extracts the remesh of `mesh` from its parameterization.
 /// mesh: the repaired input (the mesh `param` was computed on).
 /// param: #halfedges corner coordinates and #E transitions (core/param/parameterization.h).
+/// given: null, or the input that `mesh` refines (refineLongEdges: its vertices are the first of
+/// `mesh`'s, in the same components); the components copied unchanged (step 6) are taken from it.
 /// Throws Error(InvalidOption) for bad options, Error(NumericalFailure) when the coordinates do
 /// not fit the fixed-point grid (|a|, |b| ≥ 2^20 lattice units: the edge length is far too
 /// small for the mesh), Error(Canceled) when context asks to stop.
 Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
-                     const ExtractOptions& options = {}, const RunContext& context = {});
+                     const ExtractOptions& options = {}, const RunContext& context = {},
+                     const TriMesh* given = nullptr);
 
 /// The hexagonal dual of a triangle mesh (see Remesh::hexDual).
 PolygonSoup hexagonalDual(const TriMesh& triangles);

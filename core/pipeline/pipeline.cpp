@@ -122,6 +122,7 @@ struct LatticeRun {
 /// What every run along a field shares.
 struct LatticeRuns {
   const TriMesh& mesh;
+  const TriMesh* given;  ///< the input that `mesh` refines, or null (mesh is the input as given)
   const MeshTopology& inputTopology;
   const std::vector<double>& sizing;
   const ExtractOptions& extractOptions;
@@ -255,7 +256,8 @@ Remeshing remeshAlongField(const RosyField& field, const LatticeRuns& runs, Timi
     context.throwIfCanceled();
 
     start = Clock::now();
-    current.remesh = extractRemesh(runs.mesh, current.param, runs.extractOptions, context);
+    current.remesh =
+        extractRemesh(runs.mesh, current.param, runs.extractOptions, context, runs.given);
     addTiming(timings, stage::kExtraction, secondsSince(start));
     // A component copied because its lattice triangles had another topology counts as a
     // topology miss, and so does, when the lattice may be refined, a remesh that is the input
@@ -398,6 +400,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   extractOptions.balanceDeviation = options.placement == VertexPlacement::Balanced;
   extractOptions.creaseAngle = options.featureAngle;
   const LatticeRuns runs{mesh,
+                         unrefined ? &*unrefined : nullptr,
                          inputTopology,
                          sizing,
                          extractOptions,

@@ -395,6 +395,34 @@ TEST(PipelineRemesh, ReturnsAMeshCopiedWholeAsItIs) {
   EXPECT_TRUE(sortedPoints(out) == sortedPoints(torus));
 }
 
+// A sphere and, beside it, a sliver triangle 4 long and 0.002 wide, at K = 300 (edge length about
+// 0.2): the sliver's edges are split for the field (longer than kInputEdgeInEdgeLengths edge
+// lengths), no lattice triangle fits on it, and it is copied. The copy is the triangle as given,
+// not its refinement (16 vertices before).
+TEST(PipelineRemesh, CopiesAComponentAsGivenWhenTheInputWasRefined) {
+  PolygonSoup input = toPolygonSoup(makeIcosphere(3));
+  const int first = static_cast<int>(input.vertexCount());
+  const std::vector<Eigen::Vector3d> sliver{{3, 0, 0}, {7, 0, 0}, {7, 0.002, 0}};
+  input.positions.insert(input.positions.end(), sliver.begin(), sliver.end());
+  input.addFace(std::array{first, first + 1, first + 2});
+  RemeshOptions options;
+  options.targetVertices = 300;
+  const RemeshResult result = remesh(input, options);
+  EXPECT_GT(result.inputEdgesSplit, 0);
+  EXPECT_EQ(result.remesh.report.componentsKept, 1);
+  EXPECT_EQ(result.metrics.topology.components, 2);
+  const TriMesh& out = result.remesh.triangles;
+  std::vector<Eigen::Vector3d> copied;
+  for (const auto v : out.vertices())
+    if (out.point(v)[0] > 2.0) copied.push_back(toEigen(out.point(v)));
+  ASSERT_EQ(copied.size(), 3u);
+  for (const Eigen::Vector3d& p : sliver)
+    EXPECT_TRUE(std::find(copied.begin(), copied.end(), p) != copied.end()) << p.transpose();
+  ASSERT_EQ(result.warnings.size(), 1u);
+  EXPECT_NE(result.warnings[0].find("1 input component was copied unchanged"), std::string::npos)
+      << result.warnings[0];
+}
+
 // A torus whose tube is 2.4 edge lengths around at K = 40: no lattice that coarse wraps around
 // the tube, and the torus was returned as it is (1536 vertices). Later runs now refine the
 // lattice until it keeps the input's topology, and the warning says why K was missed.
