@@ -187,7 +187,8 @@ std::vector<std::string> remeshWarnings(const Remeshing& chosen, const RemeshOpt
          << (copied == 1 ? "it" : "them");
     warnings.push_back(text.str());
   }
-  if (run.param.flippedTriangles > 0)
+  // Folds matter where the lattice was taken: not in an input copied whole.
+  if (run.param.flippedTriangles > 0 && copied < run.remesh.report.components)
     warnings.push_back(std::to_string(run.param.flippedTriangles) +
                        " parameter triangles stayed folded; the extraction filled the gaps, which "
                        "puts irregular vertices away from the singularities there (another "

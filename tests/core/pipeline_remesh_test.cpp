@@ -423,6 +423,26 @@ TEST(PipelineRemesh, CopiesAComponentAsGivenWhenTheInputWasRefined) {
       << result.warnings[0];
 }
 
+// A needle tetrahedron (a base 1 × 10⁻⁴, its apex 50 away) at K = 50: two of its faces meet at a
+// dihedral angle of almost 0°, which no lattice that coarse wraps, and it is copied as it is.
+// Its parameterization's folds go unmentioned: no lattice was taken (there was a warning that
+// the extraction filled their gaps).
+TEST(PipelineRemesh, WarnsOfTheCopyNotOfFoldsWhenTheInputIsCopiedWhole) {
+  const PolygonSoup needle = parseMesh(
+      "OFF\n4 4 0\n0 0 0\n1 0 0\n0 0.0001 0\n0.3 0.3 50\n"
+      "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n");
+  RemeshOptions options;
+  options.targetVertices = 50;
+  const RemeshResult result = remesh(needle, options);
+  EXPECT_EQ(result.remesh.report.componentsKept, 1);
+  EXPECT_EQ(result.remesh.triangles.n_vertices(), 4u);
+  EXPECT_GT(result.flippedParamTriangles, 0);
+  ASSERT_EQ(result.warnings.size(), 2u);
+  EXPECT_NE(result.warnings[0].find("copied unchanged"), std::string::npos) << result.warnings[0];
+  EXPECT_NE(result.warnings[1].find("more than 10% away from the 50"), std::string::npos)
+      << result.warnings[1];
+}
+
 // A torus whose tube is 2.4 edge lengths around at K = 40: no lattice that coarse wraps around
 // the tube, and the torus was returned as it is (1536 vertices). Later runs now refine the
 // lattice until it keeps the input's topology, and the warning says why K was missed.
