@@ -92,6 +92,7 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
   std::vector<TriMesh::VertexHandle> vertexOf;
   std::vector<Eigen::Vector3d> unfitted;  // N = 4: vertex positions before the fit
   std::vector<int> partner;               // N = 4: squarePartners
+  std::vector<char> copied;  // per vertex of result.triangles: of a component copied (step 6)
   std::optional<ClosestPointQuery> inputQuery;  // built for the fit, also read by the quad steps
   {
     ScopedTimer timer(report.timings, "repair and boundary");
@@ -106,17 +107,20 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     keepComponentsTooSmallForTheLattice(mesh, given ? *given : mesh, faceComponent, componentCount,
                                         options, out, report);
     result.triangles = buildMesh(out, report, vertexOf);
+    copied.assign(result.triangles.n_vertices(), 0);
+    for (std::size_t v = remeshedVertices; v < vertexOf.size(); ++v)
+      if (vertexOf[v].is_valid()) copied[vertexOf[v].idx()] = 1;
     if (quads) {
       partner = squarePartners(result.triangles, out.squares, vertexOf);
       // A component copied unchanged keeps its triangles.
-      for (std::size_t v = remeshedVertices; v < vertexOf.size(); ++v)
-        if (vertexOf[v].is_valid())
-          for (const auto f : result.triangles.vf_range(vertexOf[v])) partner[f.idx()] = kKeptAsIs;
+      for (const auto v : result.triangles.vertices())
+        if (copied[v.idx()])
+          for (const auto f : v.faces()) partner[f.idx()] = kKeptAsIs;
       report.mergedTrianglePairs = pairTriangles(result.triangles, partner);
     }
   }
-  // A remesh made only of components copied from the input (step 6) is the input as it is:
-  // neither fitted nor rid of slivers.
+  // Copied components keep their vertices and triangles through steps 7 and 8; a remesh made
+  // only of them skips both.
   const bool onlyCopies = componentCount > 0 && report.componentsKept == componentCount;
   if (!onlyCopies) {
     ScopedTimer timer(report.timings, "surface fit");
@@ -133,7 +137,7 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
       fitOptions.balanceDeviation = options.balanceDeviation;
       fitOptions.threads = options.threads;
       const auto counts =
-          fitRemeshToSurface(mesh, *inputQuery, result.triangles, fitOptions, partner);
+          fitRemeshToSurface(mesh, *inputQuery, result.triangles, fitOptions, partner, copied);
       report.featureSnaps = counts.snapped;
       report.smoothedVertices = counts.smoothed;
       report.relaxedVertices = counts.relaxed;
@@ -142,8 +146,14 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     }
     // N = 4: after the quads' corners are mended (repairSliversBesideSquares).
     if (options.sliverAngle > 0.0 && !quads) {
-      const SliverRepairs done = repairBoundarySlivers(
-          result.triangles, options.sliverAngle, options.obtuseAngle, options.sharpBoundaryAngle);
+      OpenMesh::FPropHandleT<bool> copiedFace;
+      result.triangles.add_property(copiedFace);
+      for (const auto f : result.triangles.faces())
+        result.triangles.property(copiedFace, f) = copied[f.halfedge().to().idx()];
+      const SliverRepairs done =
+          repairBoundarySlivers(result.triangles, options.sliverAngle, options.obtuseAngle,
+                                options.sharpBoundaryAngle, copiedFace);
+      result.triangles.remove_property(copiedFace);
       report.boundarySliverCollapses = done.collapses;
       report.boundarySliverFlips = done.flips;
     }
@@ -152,7 +162,8 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     if (!unfitted.empty()) {
       result.quads = pairSquares(result.triangles, partner);
       report.restoredVertices = restoreQuadCorners(result.quads, result.triangles, unfitted);
-      report.centredVertices = centreIrregularVertices(result.quads, result.triangles, *inputQuery);
+      report.centredVertices =
+          centreIrregularVertices(result.quads, result.triangles, *inputQuery, copied);
     }
     if (options.sliverAngle > 0.0 && !onlyCopies) {
       const SliverRepairs done =

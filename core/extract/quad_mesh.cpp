@@ -180,7 +180,7 @@ long long restoreQuadCorners(PolygonSoup& quads, TriMesh& triangles,
 }
 
 long long centreIrregularVertices(PolygonSoup& quads, TriMesh& triangles,
-                                  const ClosestPointQuery& input) {
+                                  const ClosestPointQuery& input, const std::vector<char>& copied) {
   const PolygonAdjacency adjacency(quads);
   // Largest distance to the input of v's triangles' centroids and v's edge midpoints (the parts
   // of the remesh a move of v moves most), with v at p.
@@ -201,7 +201,7 @@ long long centreIrregularVertices(PolygonSoup& quads, TriMesh& triangles,
   for (std::size_t i = 0; i < quads.vertexCount(); ++i) {
     const int v = static_cast<int>(i);
     const auto& around = adjacency.neighbours[v];
-    if (adjacency.onBoundary[v] || around.size() == 4 || around.size() < 3) continue;
+    if (adjacency.onBoundary[v] || copied[i] || around.size() == 4 || around.size() < 3) continue;
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
     double length = 0.0;
     for (const int w : around) {
@@ -229,17 +229,17 @@ SliverRepairs repairSliversBesideSquares(TriMesh& triangles, std::vector<int>& p
                                          double straightWithin) {
   // The repairs renumber the faces: each face carries its square (its lower face index) or its
   // partner code through them.
-  OpenMesh::FPropHandleT<bool> halfOfSquare;
+  OpenMesh::FPropHandleT<bool> fixed;  // halves of squares and copied triangles
   OpenMesh::FPropHandleT<int> square;
-  triangles.add_property(halfOfSquare);
+  triangles.add_property(fixed);
   triangles.add_property(square);
   for (const auto f : triangles.faces()) {
     const int other = partner[f.idx()];
-    triangles.property(halfOfSquare, f) = other >= 0;
+    triangles.property(fixed, f) = other >= 0 || other == kKeptAsIs;
     triangles.property(square, f) = other >= 0 ? std::min(f.idx(), other) : other;
   }
   const SliverRepairs done =
-      repairBoundarySlivers(triangles, sliverDegrees, obtuseDegrees, straightWithin, halfOfSquare);
+      repairBoundarySlivers(triangles, sliverDegrees, obtuseDegrees, straightWithin, fixed);
   std::vector<int> firstHalf(partner.size(), -1);  // per square: its first face seen
   partner.assign(triangles.n_faces(), kUnpaired);
   for (const auto f : triangles.faces()) {
@@ -253,7 +253,7 @@ SliverRepairs repairSliversBesideSquares(TriMesh& triangles, std::vector<int>& p
       partner[firstHalf[id]] = f.idx();
     }
   }
-  triangles.remove_property(halfOfSquare);
+  triangles.remove_property(fixed);
   triangles.remove_property(square);
   return done;
 }

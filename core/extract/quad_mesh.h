@@ -51,13 +51,14 @@ long long restoreQuadCorners(PolygonSoup& quads, TriMesh& triangles,
 /// worst corner better and its triangles come no farther from the input: the lattice point sits
 /// where the parameterization put the singular input vertex, which can leave one corner near
 /// 180° and the others narrow (an icosphere's valence-3 vertices: 176° before, 140° after).
-/// `triangles` moves along. Returns the number of moves.
+/// `triangles` moves along. The vertices marked in `copied` (of components copied unchanged)
+/// stay. Returns the number of moves.
 long long centreIrregularVertices(PolygonSoup& quads, TriMesh& triangles,
-                                  const ClosestPointQuery& input);
+                                  const ClosestPointQuery& input, const std::vector<char>& copied);
 
 /// Step 8 for N = 4 (repairBoundarySlivers) on the triangles of `triangles` that are no half of a
-/// square (`partner`: squarePartners; boundary strips, hole fills): the squares' halves keep
-/// their vertices, and `partner` follows the collapses' renumbering of the faces.
+/// square (`partner`: squarePartners; boundary strips, hole fills) nor copied (kKeptAsIs): the
+/// others keep their vertices, and `partner` follows the collapses' renumbering of the faces.
 SliverRepairs repairSliversBesideSquares(TriMesh& triangles, std::vector<int>& partner,
                                          double sliverDegrees, double obtuseDegrees,
                                          double straightWithin);

@@ -89,14 +89,18 @@ std::array<double, 2> goalExcess(const std::array<double, 2>& range) {
 class SurfaceFit {
  public:
   SurfaceFit(const TriMesh& input, const ClosestPointQuery& inputQuery, TriMesh& remesh,
-             double creaseAngle, int threads, const std::vector<int>& squarePartner)
+             double creaseAngle, int threads, const std::vector<int>& squarePartner,
+             const std::vector<char>& copied)
       : remesh_(remesh),
         partner_(squarePartner),
         threads_(threads),
         inputQuery_(inputQuery),
-        locked_(remesh.n_vertices(), 0),
+        fixed_(remesh.n_vertices(), 0),
         moved_(remesh.n_vertices(), 0) {
-    for (const auto v : remesh_.vertices()) locked_[v.idx()] = !isInterior(v);
+    for (const auto v : remesh_.vertices())
+      fixed_[v.idx()] =
+          remesh_.is_boundary(v) || remesh_.is_isolated(v) || (!copied.empty() && copied[v.idx()]);
+    locked_ = fixed_;
     double lengthSum = 0.0;
     for (const auto e : remesh_.edges()) lengthSum += remesh_.calc_edge_length(e);
     meanEdgeLength_ =
@@ -306,7 +310,7 @@ class SurfaceFit {
       for (const auto f : remesh_.faces())
         if (beyondGoalWindow(
                 angleRange(facePositions(remesh_, f, OpenMesh::VertexHandle(), Vec3::Zero()))))
-          for (const auto v : f.vertices()) outlierCorner[v.idx()] = isInterior(v);
+          for (const auto v : f.vertices()) outlierCorner[v.idx()] = movable(v);
       // A move changes its neighbours' fans, and the input points assigned to them: those wait
       // for the next pass's assignment.
       std::vector<char> touched(remesh_.n_vertices(), 0);
@@ -374,7 +378,7 @@ class SurfaceFit {
       if (pass > 0) assignInputPoints();
       std::vector<char> nextVisit(remesh_.n_vertices(), 0);
       for (const auto v : remesh_.vertices()) {
-        if (!visit[v.idx()] || !isInterior(v)) continue;
+        if (!visit[v.idx()] || !movable(v)) continue;
         const Vec3 current = position(v);
         const double length = vertexEdgeLength(v);
         // Later passes visit the neighbours of moves, whose deviation changed.
@@ -405,7 +409,8 @@ class SurfaceFit {
   const std::vector<int>& partner_;
   int threads_;  ///< for relaxation and the assignment of input points (same result for any count)
   const ClosestPointQuery& inputQuery_;
-  std::vector<char> locked_;  ///< per remesh vertex: boundary, isolated or snapped all the way
+  std::vector<char> fixed_;   ///< per remesh vertex: boundary, isolated or copied (never moves)
+  std::vector<char> locked_;  ///< per remesh vertex: fixed or snapped all the way (snap, smoothing)
   std::vector<char> moved_;   ///< per remesh vertex: moved since the last assignInputPoints
   /// The snaps' targets (the first featurePointCount_): the input's vertices (the first
   /// inputVertexCount_), then the crease samples; then the input's face centroids.
@@ -470,14 +475,14 @@ class SurfaceFit {
     std::vector<double> deviation(remesh_.n_vertices(), 0.0);
     parallelFor(remesh_.n_vertices(), threads_, [&](std::size_t i) {
       const SVH v(static_cast<int>(i), &remesh_);
-      if (isInterior(v)) deviation[i] = fanDeviation(v, position(v));
+      if (movable(v)) deviation[i] = fanDeviation(v, position(v));
     });
     return deviation;
   }
 
   /// Neither on the boundary nor isolated: relaxation and balancing move such vertices, snapped
   /// ones too (relaxation's deviation bounds keep them near their features).
-  bool isInterior(SVH v) const { return !remesh_.is_boundary(v) && !remesh_.is_isolated(v); }
+  bool movable(SVH v) const { return !fixed_[v.idx()]; }
 
   /// The interior vertices in classes of which no two share a triangle, or for N = 4 a quad
   /// (greedy colouring in index order).
@@ -486,7 +491,7 @@ class SurfaceFit {
     std::vector<std::vector<int>> classes;
     std::vector<char> taken;
     for (const auto v : remesh_.vertices()) {
-      if (!isInterior(v)) continue;
+      if (!movable(v)) continue;
       taken.assign(classes.size(), 0);
       for (const auto w : v.vertices())
         if (colour[w.idx()] >= 0) taken[colour[w.idx()]] = 1;
@@ -795,10 +800,12 @@ class SurfaceFit {
 
 SurfaceFitCounts fitRemeshToSurface(const TriMesh& input, const ClosestPointQuery& inputQuery,
                                     TriMesh& remesh, const SurfaceFitOptions& options,
-                                    const std::vector<int>& squarePartner) {
+                                    const std::vector<int>& squarePartner,
+                                    const std::vector<char>& copied) {
   SurfaceFitCounts counts;
   if (input.n_faces() == 0 || remesh.n_faces() == 0) return counts;
-  SurfaceFit fit(input, inputQuery, remesh, options.creaseAngle, options.threads, squarePartner);
+  SurfaceFit fit(input, inputQuery, remesh, options.creaseAngle, options.threads, squarePartner,
+                 copied);
   // Smoothing and the outlier-angle moves judge triangles by their angles: not the halves of
   // lattice squares.
   const bool shapeTriangles = squarePartner.empty();

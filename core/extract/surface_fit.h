@@ -57,10 +57,10 @@
 // input points are its vertices and its face centroids (only vertices are snap targets).
 // Balancing samples (b) on the grid instead.
 // Boundary vertices are never moved (they lie on the input boundary; see boundary.h for their
-// slides). Deterministic. For the quads of the Gauss lattice (N = 4) relaxation aims at 90° quad
-// corners, snapping and balancing keep quad corners within 45° of 90° (or no worse) instead of
-// triangle angles in their windows, and smoothing is left out (fitRemeshToSurface's
-// squarePartner).
+// slides), nor are those of copied components. Deterministic. For the quads of the Gauss lattice (N
+// = 4) relaxation aims at 90° quad corners, snapping and balancing keep quad corners within 45° of
+// 90° (or no worse) instead of triangle angles in their windows, and smoothing is left out
+// (fitRemeshToSurface's squarePartner).
 
 #include <vector>
 
@@ -100,8 +100,11 @@ struct SurfaceFitOptions {
 /// outlier-angle moves (see above). `squarePartner` (N = 4; squarePartners in quad_mesh.h: per
 /// face the other triangle of its lattice square, or −1) makes relaxation aim at 90° quad
 /// corners, and leaves smoothing and the outlier-angle moves, which aim at 60° triangles, out.
+/// `copied` (per remesh vertex, or empty for none) marks the vertices of input components copied
+/// unchanged (extraction's step 6), which stay where they are, as boundary vertices do.
 SurfaceFitCounts fitRemeshToSurface(const TriMesh& input, const ClosestPointQuery& inputQuery,
                                     TriMesh& remesh, const SurfaceFitOptions& options,
-                                    const std::vector<int>& squarePartner = {});
+                                    const std::vector<int>& squarePartner = {},
+                                    const std::vector<char>& copied = {});
 
 }  // namespace hexcover::extract_detail

@@ -394,6 +394,25 @@ TEST(ExtractSynthetic, EachComponentIsRemeshedAndOneTooSmallForTheLatticeIsKept)
   const MeshTopology topology = computeTopology(remesh.triangles);
   EXPECT_TRUE(topology.sameAs(computeTopology(mesh)));
   EXPECT_EQ(topology.components, 3);
+
+  // With the input as given (here: the small patch lifted by 1 in z), the kept component is
+  // copied from it, and no other vertex is.
+  TriMesh given = mesh;
+  for (const auto v : given.vertices())
+    if (given.point(v)[0] > 30.0) given.point(v)[2] += 1.0;
+  const Remesh fromGiven = extractRemesh(mesh, param, {}, {}, &given);
+  EXPECT_EQ(fromGiven.report.componentsKept, 1);
+  int lifted = 0;
+  for (const auto v : fromGiven.triangles.vertices()) {
+    const auto& p = fromGiven.triangles.point(v);
+    EXPECT_EQ(p[0] > 30.0, p[2] == 1.0) << p;
+    lifted += p[2] == 1.0 ? 1 : 0;
+  }
+  EXPECT_EQ(lifted, 30);  // the 6 × 5 vertices of the small patch
+
+  TriMesh larger = mesh;
+  larger.add_vertex({0, 0, 0});
+  EXPECT_THROW(extractRemesh(mesh, param, {}, {}, &larger), Error);
 }
 
 TEST(ExtractSynthetic, HexagonalDualHasOneHexagonPerInteriorVertexOfARegularTorus) {

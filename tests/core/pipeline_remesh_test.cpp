@@ -423,6 +423,50 @@ TEST(PipelineRemesh, CopiesAComponentAsGivenWhenTheInputWasRefined) {
       << result.warnings[0];
 }
 
+// A sphere and, beside it, a small patch (a 5 × 5 grid of right triangles 0.03 wide, its inner
+// vertices moved off the grid) at K = 300, triangles and quads: no lattice triangle fits on the
+// patch, and it is copied as it is. The surface fit, drawn by its triangles' angles, had moved its
+// inner vertices over it.
+TEST(PipelineRemesh, LeavesACopiedComponentUnchangedBesideARemeshedOne) {
+  PolygonSoup input = toPolygonSoup(makeIcosphere(3));
+  const int first = static_cast<int>(input.vertexCount());
+  constexpr int kSide = 5;
+  constexpr double kWidth = 0.03;
+  std::vector<Eigen::Vector3d> given;
+  for (int j = 0; j < kSide; ++j)
+    for (int i = 0; i < kSide; ++i) {
+      const bool inner = i > 0 && j > 0 && i < kSide - 1 && j < kSide - 1;
+      const double dx = inner ? 0.15 * std::sin(7 * i + 3 * j) : 0.0;
+      const double dy = inner ? 0.15 * std::cos(5 * i + 11 * j) : 0.0;
+      given.emplace_back(3.0 + kWidth * (i + dx) / (kSide - 1), kWidth * (j + dy) / (kSide - 1),
+                         0.01 * kWidth * std::sin(i + j));
+    }
+  input.positions.insert(input.positions.end(), given.begin(), given.end());
+  for (int j = 0; j + 1 < kSide; ++j)
+    for (int i = 0; i + 1 < kSide; ++i) {
+      const int a = first + j * kSide + i, b = a + 1, c = a + kSide, d = c + 1;
+      input.addFace(std::array{a, b, d});
+      input.addFace(std::array{a, d, c});
+    }
+  const auto lexicographic = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+  };
+  std::sort(given.begin(), given.end(), lexicographic);
+  for (const int rosy : {6, 4}) {
+    RemeshOptions options;
+    options.targetVertices = 300;
+    options.rosy = rosy;
+    const RemeshResult result = remesh(input, options);
+    EXPECT_EQ(result.remesh.report.componentsKept, 1) << "rosy " << rosy;
+    const TriMesh& out = result.remesh.triangles;
+    std::vector<Eigen::Vector3d> copied;
+    for (const auto v : out.vertices())
+      if (out.point(v)[0] > 2.0) copied.push_back(toEigen(out.point(v)));
+    std::sort(copied.begin(), copied.end(), lexicographic);
+    EXPECT_TRUE(copied == given) << "rosy " << rosy;
+  }
+}
+
 // A needle tetrahedron (a base 1 × 10⁻⁴, its apex 50 away) at K = 50: two of its faces meet at a
 // dihedral angle of almost 0°, which no lattice that coarse wraps, and it is copied as it is.
 // Its parameterization's folds go unmentioned: no lattice was taken (there was a warning that
