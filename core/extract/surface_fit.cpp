@@ -263,7 +263,7 @@ class SurfaceFit {
   /// Relaxation (see surface_fit.h); returns the number of moves.
   long long relax() {
     assignInputPoints();
-    const std::vector<double> deviation = interiorFanDeviations();
+    const std::vector<double> deviation = movableFanDeviations();
     const double largest = *std::max_element(deviation.begin(), deviation.end());
     // Vertices of one class share no triangle, so their steps are independent: each class moves
     // in parallel, and the result does not depend on the thread count.
@@ -365,7 +365,7 @@ class SurfaceFit {
     // (and kBalanceMinDeviation local edge lengths) are balanced: the two-sided distance is a
     // maximum, and a line search costs a few hundred closest-point queries.
     assignInputPoints();
-    std::vector<double> deviation = interiorFanDeviations();
+    std::vector<double> deviation = movableFanDeviations();
     const double largest = *std::max_element(deviation.begin(), deviation.end());
     const double threshold = kBalanceShareOfLargest * largest;
     // The angles may stray to the snap window (quads: corners within kQuadCornerWindow of 90°,
@@ -470,8 +470,8 @@ class SurfaceFit {
     return sum;
   }
 
-  /// Per remesh vertex: the local deviation of its fan, 0 for boundary and isolated vertices.
-  std::vector<double> interiorFanDeviations() const {
+  /// Per remesh vertex: the local deviation of its fan, 0 for fixed vertices.
+  std::vector<double> movableFanDeviations() const {
     std::vector<double> deviation(remesh_.n_vertices(), 0.0);
     parallelFor(remesh_.n_vertices(), threads_, [&](std::size_t i) {
       const SVH v(static_cast<int>(i), &remesh_);
@@ -480,11 +480,11 @@ class SurfaceFit {
     return deviation;
   }
 
-  /// Neither on the boundary nor isolated: relaxation and balancing move such vertices, snapped
-  /// ones too (relaxation's deviation bounds keep them near their features).
+  /// Not fixed (on the boundary, isolated or copied): relaxation and balancing move such
+  /// vertices, snapped ones too (relaxation's deviation bounds keep them near their features).
   bool movable(SVH v) const { return !fixed_[v.idx()]; }
 
-  /// The interior vertices in classes of which no two share a triangle, or for N = 4 a quad
+  /// The movable vertices in classes of which no two share a triangle, or for N = 4 a quad
   /// (greedy colouring in index order).
   std::vector<std::vector<int>> independentClasses() const {
     std::vector<int> colour(remesh_.n_vertices(), -1);
