@@ -11,6 +11,8 @@
 #include <optional>
 #include <sstream>
 
+#include "server/memory_budget.h"
+
 extern char** environ;
 
 namespace hexcover::server {
@@ -77,6 +79,12 @@ const std::vector<Setting>& settings() {
        }},
       {"job-time-limit", "HEXCOVER_JOB_TIME_LIMIT", "seconds one job may run (default 3600)",
        [](ServerConfig& c, const std::string& v) { c.jobTimeLimitSeconds = parseSeconds(v); }},
+      {"memory-budget", "HEXCOVER_MEMORY_BUDGET",
+       "MiB of memory the running jobs may use together; a job waits for its estimated peak "
+       "and one above the budget fails (default 0: 80% of the memory, or of the cgroup's limit)",
+       [](ServerConfig& c, const std::string& v) {
+         c.memoryBudgetMiB = double(parseInteger(v, 0, 1ll << 40));
+       }},
       {"retention", "HEXCOVER_RETENTION", "seconds finished jobs are kept (default 604800)",
        [](ServerConfig& c, const std::string& v) { c.retentionSeconds = parseSeconds(v); }},
       {"drain-grace", "HEXCOVER_DRAIN_GRACE",
@@ -137,6 +145,10 @@ int usableCpuCount() {
 }
 
 int ServerConfig::effectiveWorkers() const { return workers > 0 ? workers : usableCpuCount(); }
+
+double ServerConfig::effectiveMemoryBudgetMiB() const {
+  return memoryBudgetMiB > 0.0 ? memoryBudgetMiB : kUsableMemoryShare * usableMemoryMiB();
+}
 
 ServerConfig parseConfig(int argc, const char* const* argv,
                          const std::map<std::string, std::string>& environment) {

@@ -27,6 +27,9 @@ struct ServerConfig {
   std::uint64_t maxUploadBytes = 512ull << 20;  ///< --max-upload-bytes, HEXCOVER_MAX_UPLOAD_BYTES
   std::size_t queueLimit = 1000;          ///< --queue-limit, HEXCOVER_QUEUE_LIMIT (queued jobs)
   double jobTimeLimitSeconds = 3600.0;    ///< --job-time-limit, HEXCOVER_JOB_TIME_LIMIT
+  /// --memory-budget, HEXCOVER_MEMORY_BUDGET: MiB the running jobs may use together
+  /// (memory_budget.h); 0: kUsableMemoryShare of usableMemoryMiB().
+  double memoryBudgetMiB = 0.0;
   double retentionSeconds = 7 * 86400.0;  ///< --retention, HEXCOVER_RETENTION (finished jobs)
   double drainSeconds = 30.0;             ///< --drain-grace, HEXCOVER_DRAIN_GRACE (on SIGTERM)
   int maxAttempts = 3;                    ///< --max-attempts, HEXCOVER_MAX_ATTEMPTS (re-runs)
@@ -39,6 +42,10 @@ struct ServerConfig {
 
   /// The worker count to use: `workers`, or usableCpuCount() when it is 0.
   int effectiveWorkers() const;
+  /// The memory budget to use: `memoryBudgetMiB`, or kUsableMemoryShare of usableMemoryMiB()
+  /// when it is 0 (the rest for the server itself, uploads and results being written).
+  double effectiveMemoryBudgetMiB() const;
+  static constexpr double kUsableMemoryShare = 0.8;
 };
 
 /// Parses argv (flags `--name value` or `--name=value`) over `environment` (HEXCOVER_* entries).

@@ -53,7 +53,8 @@ JobService::JobService(JobServiceOptions options, JobStore& store, const Engine&
       engine_(engine),
       metrics_(metrics),
       log_(log),
-      queue_(options_.queueLimit) {}
+      queue_(options_.queueLimit),
+      memory_(options_.memoryBudgetMiB) {}
 
 JobService::~JobService() {
   if (!workers_.empty() && !draining_) drain(std::chrono::seconds(0));
@@ -247,6 +248,8 @@ void JobService::runJob(const std::string& id) {
 
   const auto deadline = std::chrono::steady_clock::now() +
                         std::chrono::duration<double>(options_.jobTimeLimitSeconds);
+  // Returned when the job ends, whatever way.
+  MemoryBudget::Share memory(memory_);
   RunContext context;
   context.progress = [active](std::string_view stage, double fraction) {
     const std::lock_guard lock(active->mutex);
@@ -256,6 +259,11 @@ void JobService::runJob(const std::string& id) {
   context.cancelRequested = [active, deadline] {
     if (std::chrono::steady_clock::now() > deadline) active->timedOut = true;
     return active->cancel || active->requeue || active->timedOut;
+  };
+  context.peakMemory = [&memory, cancel = context.cancelRequested](double mib) {
+    memory.raise(mib, [&cancel] {
+      if (cancel()) throw Error(ErrorCode::Canceled, "the run was canceled");
+    });
   };
 
   const fs::path dir = jobDir(id);

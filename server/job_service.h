@@ -27,6 +27,7 @@
 #include "server/job_queue.h"
 #include "server/job_store.h"
 #include "server/log.h"
+#include "server/memory_budget.h"
 #include "server/service_metrics.h"
 
 namespace hexcover::server {
@@ -38,6 +39,8 @@ struct JobServiceOptions {
   double jobTimeLimitSeconds = 3600.0;
   double retentionSeconds = 7 * 86400.0;
   int maxAttempts = 3;
+  /// What the running jobs may use together (memory_budget.h); > 0.
+  double memoryBudgetMiB = 4096.0;
 };
 
 /// A job as clients see it: the stored record with the live stage and progress of a running
@@ -127,6 +130,7 @@ class JobService {
   ServiceMetrics& metrics_;
   const Log& log_;
   JobQueue queue_;
+  MemoryBudget memory_;
 
   mutable std::mutex mutex_;      ///< guards job state transitions, active_, receiving_
   std::condition_variable idle_;  ///< notified when a job leaves active_

@@ -66,6 +66,7 @@ int main(int argc, char** argv) {
     options.workers = config.effectiveWorkers();
     options.queueLimit = config.queueLimit;
     options.jobTimeLimitSeconds = config.jobTimeLimitSeconds;
+    options.memoryBudgetMiB = config.effectiveMemoryBudgetMiB();
     options.retentionSeconds = config.retentionSeconds;
     options.maxAttempts = config.maxAttempts;
     JobService jobs(options, store, engine, metrics, log);
@@ -81,6 +82,7 @@ int main(int argc, char** argv) {
                            {"url", "http://" + host + ":" + std::to_string(port)},
                            {"data_dir", std::filesystem::absolute(config.dataDir).string()},
                            {"workers", options.workers},
+                           {"memory_budget_mib", std::lround(options.memoryBudgetMiB)},
                            {"http_threads", config.httpThreads}});
 
     int received = 0;

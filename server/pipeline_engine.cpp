@@ -44,6 +44,7 @@ RunContext jobProgress(const RunContext& job) {
   auto state = std::make_shared<State>();
   RunContext context;
   context.cancelRequested = job.cancelRequested;
+  context.peakMemory = job.peakMemory;
   context.progress = [state, job](std::string_view stage, double fraction) {
     double overall;
     {

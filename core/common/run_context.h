@@ -27,9 +27,17 @@ struct RunContext {
   std::function<void(std::string_view stage, double fraction)> progress;
   /// Returns true when the caller wants the run to stop. May be empty.
   std::function<bool()> cancelRequested;
+  /// Called with the run's estimated peak memory in MiB once it is known (the remesh pipeline:
+  /// after the repair, before the field), and again with a larger estimate when the run grows.
+  /// A caller that runs several jobs side by side may wait there until the memory is free, or
+  /// throw Error(LimitExceeded) to refuse a run too large for it. May be empty.
+  std::function<void(double peakMiB)> peakMemory;
 
   void report(std::string_view stage, double fraction) const {
     if (progress) progress(stage, fraction);
+  }
+  void reservePeakMemory(double peakMiB) const {
+    if (peakMemory) peakMemory(peakMiB);
   }
   /// Throws Error(Canceled) when cancellation was requested; call between and inside long steps.
   void throwIfCanceled() const {

@@ -292,6 +292,11 @@ Remeshing remeshAlongField(const RosyField& field, const LatticeRuns& runs, Timi
 
 }  // namespace
 
+double estimatedPeakMemoryMiB(std::size_t faces, double remeshVertices) {
+  constexpr double kMiBPerFace = 3.5 / 1024.0, kMiBPerVertex = 1.0 / 1024.0, kBaseMiB = 50.0;
+  return kBaseMiB + kMiBPerFace * static_cast<double>(faces) + kMiBPerVertex * remeshVertices;
+}
+
 double latticeVertexCount(const TriMesh& mesh, double h) {
   // (h₁ / h)², h₁ the edge length of a lattice of one vertex.
   return std::pow(edgeLengthForVertexCount(mesh, 1, 6) / h, 2);
@@ -389,10 +394,20 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   // them, get the input refined to kCoarseInputEdgeInEdgeLengths and the field again, when the
   // lattice has the room: kLatticeVerticesPerSplitSingularity vertices for each first-order
   // singularity they would become (a cube of 8 vertices at K = 2 stays as it is).
+  // The run's memory is reserved before the stages that take it (a service may wait there until
+  // it is free): for the input refined to kInputEdgeInEdgeLengths (about a face per eight lattice
+  // vertices where the input is coarser), then for the faces that each refinement made.
+  const auto reserveMemory = [&](std::size_t faces) {
+    context.reservePeakMemory(estimatedPeakMemoryMiB(faces, latticeVertices));
+  };
+  reserveMemory(std::max(mesh.n_faces(), static_cast<std::size_t>(latticeVertices / 8.0)));
   refine(kInputEdgeInEdgeLengths);
+  reserveMemory(mesh.n_faces());
   RosyField field = computeField();
-  if (needsFinerInputForLattice(field, latticeVertices) && refine(kCoarseInputEdgeInEdgeLengths))
+  if (needsFinerInputForLattice(field, latticeVertices) && refine(kCoarseInputEdgeInEdgeLengths)) {
+    reserveMemory(mesh.n_faces());
     field = computeField();
+  }
   context.throwIfCanceled();
 
   // 3 and 4. Parameterization and extraction (see remeshAlongField).

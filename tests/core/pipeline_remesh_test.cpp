@@ -806,6 +806,47 @@ TEST(PipelineRemesh, RunsAfterTheFirstReportTheirOwnRisingStage) {
   EXPECT_LT(reached, 0.5);
 }
 
+// The run's estimated peak memory is announced before the field, so that a service can wait
+// for it or refuse the run; the estimate grows with the input's faces and with the remesh.
+TEST(PipelineRemesh, AnnouncesItsPeakMemoryBeforeTheField) {
+  EXPECT_LT(estimatedPeakMemoryMiB(1000, 1000), estimatedPeakMemoryMiB(2000, 1000));
+  EXPECT_LT(estimatedPeakMemoryMiB(1000, 1000), estimatedPeakMemoryMiB(1000, 2000));
+  // The 1.1M-face bunny at K = 139K peaked at 3505 MiB.
+  EXPECT_NEAR(estimatedPeakMemoryMiB(1'111'216, 139'012), 3505.0, 0.15 * 3505.0);
+
+  const TriMesh sphere = makeIcosphere(3);
+  RemeshOptions options;
+  options.targetVertices = 300;
+  std::vector<double> announced;
+  bool fieldStarted = false;
+  RunContext context;
+  context.progress = [&](std::string_view stage, double) {
+    fieldStarted = fieldStarted || stage == stage::kField;
+  };
+  context.peakMemory = [&](double mib) {
+    EXPECT_FALSE(fieldStarted);
+    announced.push_back(mib);
+  };
+  remesh(toPolygonSoup(sphere), options, context);
+  ASSERT_FALSE(announced.empty());
+  // For the sphere's 1280 faces (none split at this K) and about 300 vertices.
+  EXPECT_GT(announced.back(), estimatedPeakMemoryMiB(sphere.n_faces(), 0.5 * 300));
+  EXPECT_LT(announced.back(), estimatedPeakMemoryMiB(sphere.n_faces(), 2.0 * 300));
+
+  // A caller that refuses the run stops it there.
+  context.peakMemory = [](double mib) {
+    throw Error(ErrorCode::LimitExceeded, "needs " + std::to_string(mib) + " MiB");
+  };
+  fieldStarted = false;
+  try {
+    remesh(toPolygonSoup(sphere), options, context);
+    ADD_FAILURE() << "not refused";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::LimitExceeded);
+  }
+  EXPECT_FALSE(fieldStarted);
+}
+
 TEST(PipelineRemesh, CancellationInsideAStageStopsTheRun) {
   const PolygonSoup sphere = toPolygonSoup(makeIcosphere(3));
   for (const std::string stop : {"field", "parameterization", "extraction"}) {

@@ -8,6 +8,8 @@
 
 #include <thread>
 
+#include "server/memory_budget.h"
+
 namespace hexcover::server {
 namespace {
 
@@ -23,6 +25,10 @@ TEST(ServerConfig, DefaultsWorkOutOfTheBox) {
   EXPECT_EQ(config.dataDir, "data");
   EXPECT_EQ(config.maxUploadBytes, 512ull << 20);
   EXPECT_GE(config.effectiveWorkers(), 1);
+  // The memory budget: 80% of the memory this process may use (this machine has some GiB).
+  EXPECT_DOUBLE_EQ(config.effectiveMemoryBudgetMiB(),
+                   ServerConfig::kUsableMemoryShare * usableMemoryMiB());
+  EXPECT_GT(config.effectiveMemoryBudgetMiB(), 256.0);
 }
 
 TEST(ServerConfig, FlagsOverrideEnvironmentVariables) {
@@ -40,6 +46,8 @@ TEST(ServerConfig, FlagsOverrideEnvironmentVariables) {
   EXPECT_EQ(fromFlags.dataDir, "/tmp/x");
   EXPECT_EQ(fromFlags.retentionSeconds, 60.0);
   EXPECT_EQ(fromFlags.workers, 3);
+  EXPECT_EQ(parse({"--memory-budget", "3000"}).effectiveMemoryBudgetMiB(), 3000.0);
+  EXPECT_EQ(parse({}, {{"HEXCOVER_MEMORY_BUDGET", "2048"}}).effectiveMemoryBudgetMiB(), 2048.0);
 }
 
 TEST(ServerConfig, BadValuesNameTheFlagOrVariable) {
