@@ -9,7 +9,9 @@
 #include <chrono>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <random>
+#include <string>
 #include <thread>
 
 #include "server/http_server.h"
@@ -38,12 +40,28 @@ class TempDir {
   std::filesystem::path path_;
 };
 
+/// A log that writes nothing.
+inline Log quietLog() {
+  return Log(
+      std::make_shared<spdlog::logger>("test", std::make_shared<spdlog::sinks::null_sink_mt>()));
+}
+
+/// The job once it has finished, or nothing after 10 s.
+inline std::optional<api::JobRecord> waitFinished(const JobService& service,
+                                                  const std::string& id) {
+  for (int i = 0; i < 2000; ++i) {
+    const auto view = service.find(id);
+    if (view && api::isFinished(view->job.state)) return view->job;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return std::nullopt;
+}
+
 class InProcessServer {
  public:
   explicit InProcessServer(ServerConfig config = smallConfig(), int workers = 1)
       : config_(withDataDir(std::move(config), dir_.path())),
-        log_(std::make_shared<spdlog::logger>("test",
-                                              std::make_shared<spdlog::sinks::null_sink_mt>())),
+        log_(quietLog()),
         store_(dir_.path() / "jobs.sqlite"),
         jobs_(serviceOptions(config_, workers), store_, engine, metrics_, log_),
         http_(config_, jobs_, engine, metrics_, log_) {

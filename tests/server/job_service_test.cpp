@@ -3,17 +3,11 @@
 // retention expires finished jobs; drain requeues running jobs.
 
 #include <gtest/gtest.h>
-#include <spdlog/sinks/null_sink.h>
 
 #include "tests/server/in_process_server.h"
 
 namespace hexcover::server::test {
 namespace {
-
-Log quietLog() {
-  return Log(
-      std::make_shared<spdlog::logger>("test", std::make_shared<spdlog::sinks::null_sink_mt>()));
-}
 
 /// Stores a job as a crashed server would have left it, with its input file.
 void leaveJob(SqliteJobStore& store, const std::filesystem::path& dataDir, const std::string& id,
@@ -27,15 +21,6 @@ void leaveJob(SqliteJobStore& store, const std::filesystem::path& dataDir, const
   ASSERT_TRUE(store.insert(job));
   std::filesystem::create_directories(dataDir / "jobs" / id);
   std::ofstream(dataDir / "jobs" / id / "input.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
-}
-
-std::optional<api::JobRecord> waitFinished(const JobService& service, const std::string& id) {
-  for (int i = 0; i < 2000; ++i) {
-    const auto view = service.find(id);
-    if (view && api::isFinished(view->job.state)) return view->job;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  return std::nullopt;
 }
 
 TEST(JobService, StartRunsQueuedJobsReRunsRunningOnesAndFailsThoseInterruptedTooOften) {

@@ -5,7 +5,6 @@
 #include "server/memory_budget.h"
 
 #include <gtest/gtest.h>
-#include <spdlog/sinks/null_sink.h>
 
 #include <atomic>
 #include <chrono>
@@ -79,11 +78,6 @@ TEST(MemoryBudget, ARunningJobGrowsWithoutWaitingAndAWaitingOneCanStop) {
   EXPECT_EQ(budget.reservedMiB(), 1200.0);
 }
 
-Log quietLog() {
-  return Log(
-      std::make_shared<spdlog::logger>("test", std::make_shared<spdlog::sinks::null_sink_mt>()));
-}
-
 // A server whose budget is below any remesh's estimate (the estimate's 50 MiB base): the job fails
 // with the pipeline's estimate named, as an unprocessable input (422), and nothing else breaks.
 TEST(MemoryBudget, AJobAboveTheServersBudgetFailsWithTheReason) {
@@ -91,7 +85,7 @@ TEST(MemoryBudget, AJobAboveTheServersBudgetFailsWithTheReason) {
   SqliteJobStore store(dir.path() / "jobs.sqlite");
   const PipelineEngine engine;
   ServiceMetrics metrics;
-  const Log log = quietLog();
+  const Log log = test::quietLog();
   JobServiceOptions options;
   options.dataDir = dir.path();
   options.memoryBudgetMiB = 10.0;
@@ -105,12 +99,7 @@ TEST(MemoryBudget, AJobAboveTheServersBudgetFailsWithTheReason) {
   submission.format = "obj";
   submission.options = engine.normalizeOptions({{"vertices", 100}});
   const std::string id = service.submit(std::move(submission)).job.id;
-  std::optional<api::JobRecord> finished;
-  for (int i = 0; i < 2000 && !finished; ++i) {
-    if (const auto view = service.find(id); view && api::isFinished(view->job.state))
-      finished = view->job;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
+  const auto finished = test::waitFinished(service, id);
   ASSERT_TRUE(finished);
   EXPECT_EQ(finished->state, api::JobState::Failed);
   EXPECT_EQ(finished->error.at("status"), 422);
