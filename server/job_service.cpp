@@ -260,8 +260,13 @@ void JobService::runJob(const std::string& id) {
     if (std::chrono::steady_clock::now() > deadline) active->timedOut = true;
     return active->cancel || active->requeue || active->timedOut;
   };
-  context.peakMemory = [&memory, cancel = context.cancelRequested](double mib) {
-    memory.raise(mib, [&cancel] {
+  // While it waits for its memory (the budget polls), the job's stage says so.
+  context.peakMemory = [&memory, active, cancel = context.cancelRequested](double mib) {
+    memory.raise(mib, [&] {
+      {
+        const std::lock_guard lock(active->mutex);
+        active->stage = "memory";
+      }
       if (cancel()) throw Error(ErrorCode::Canceled, "the run was canceled");
     });
   };

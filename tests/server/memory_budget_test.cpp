@@ -8,7 +8,9 @@
 
 #include <atomic>
 #include <chrono>
+#include <fstream>
 #include <optional>
+#include <string>
 #include <thread>
 
 #include "core/common/error.h"
@@ -76,6 +78,55 @@ TEST(MemoryBudget, ARunningJobGrowsWithoutWaitingAndAWaitingOneCanStop) {
   EXPECT_THROW(waiting.raise(300.0, stopAfterThreePolls), Error);
   EXPECT_EQ(waiting.reservedMiB(), 0.0);
   EXPECT_EQ(budget.reservedMiB(), 1200.0);
+}
+
+/// Queues a job whose input is `text` (the stub engine reads it) and returns its id.
+std::string submitText(JobService& service, const std::filesystem::path& dir,
+                       const std::string& name, const std::string& text) {
+  const auto upload = dir / (name + ".obj");
+  std::ofstream(upload) << text;
+  Submission submission;
+  submission.uploadFile = upload;
+  submission.format = "obj";
+  submission.options = nlohmann::json::object();
+  return service.submit(std::move(submission)).job.id;
+}
+
+// Three workers and a budget of 100 MiB: of two jobs of 60 MiB the second waits (its stage says
+// "memory") until the first is done; a job of 500 MiB fails at once with the reason.
+TEST(MemoryBudget, JobsThatDoNotFitSideBySideRunOneAfterTheOther) {
+  test::TempDir dir;
+  SqliteJobStore store(dir.path() / "jobs.sqlite");
+  test::StubEngine engine;
+  engine.gateOpen = false;
+  ServiceMetrics metrics;
+  const Log log = test::quietLog();
+  JobServiceOptions options;
+  options.dataDir = dir.path();
+  options.workers = 3;
+  options.memoryBudgetMiB = 100.0;
+  JobService service(options, store, engine, metrics, log);
+  service.start();
+  const std::string mesh = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  const std::string first = submitText(service, dir.path(), "first", "# peak 60\n" + mesh);
+  for (int i = 0; i < 1000 && service.find(first)->job.stage != "stub"; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  const std::string second = submitText(service, dir.path(), "second", "# peak 60\n" + mesh);
+  for (int i = 0; i < 1000 && service.find(second)->job.stage != "memory"; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  EXPECT_EQ(service.find(second)->job.state, api::JobState::Running);
+  EXPECT_EQ(service.find(second)->job.stage, "memory");
+  EXPECT_EQ(engine.runs, 2);
+
+  const std::string huge = submitText(service, dir.path(), "huge", "# peak 500\n" + mesh);
+  const auto refused = test::waitFinished(service, huge);
+  ASSERT_TRUE(refused);
+  EXPECT_EQ(refused->state, api::JobState::Failed);
+  EXPECT_EQ(refused->error.at("code"), "limit_exceeded");
+
+  engine.gateOpen = true;
+  EXPECT_EQ(test::waitFinished(service, first)->state, api::JobState::Succeeded);
+  EXPECT_EQ(test::waitFinished(service, second)->state, api::JobState::Succeeded);
 }
 
 // A server whose budget is below any remesh's estimate (the estimate's 50 MiB base): the job fails

@@ -51,6 +51,9 @@ class StubEngine final : public Engine {
                          {{"input", {{"non_manifold_edges", 1}}}});
     if (mesh.find("throw") != std::string::npos)
       throw std::runtime_error("secret internal detail at 0xdeadbeef");
+    // "# peak N": the run announces a peak memory of N MiB, as the pipeline does.
+    if (const auto at = mesh.find("# peak "); at != std::string::npos)
+      context.reservePeakMemory(std::stod(mesh.substr(at + 7)));
     while (!gateOpen) {
       context.report("stub", 0.5);
       context.throwIfCanceled();
