@@ -28,7 +28,8 @@ struct RunContext {
   /// Returns true when the caller wants the run to stop. May be empty.
   std::function<bool()> cancelRequested;
   /// Called with the run's estimated peak memory in MiB once it is known (the remesh pipeline:
-  /// after the repair, before the field), and again with a larger estimate when the run grows.
+  /// before the repair, for the input's faces, and after it, with the remesh's size, before the
+  /// field), and again with a larger estimate when the run grows.
   /// A caller that runs several jobs side by side may wait there until the memory is free, or
   /// throw Error(LimitExceeded) to refuse a run too large for it. May be empty.
   std::function<void(double peakMiB)> peakMemory;

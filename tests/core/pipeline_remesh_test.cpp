@@ -806,9 +806,10 @@ TEST(PipelineRemesh, RunsAfterTheFirstReportTheirOwnRisingStage) {
   EXPECT_LT(reached, 0.5);
 }
 
-// The run's estimated peak memory is announced before the field, so that a service can wait
-// for it or refuse the run; the estimate grows with the input's faces and with the remesh.
-TEST(PipelineRemesh, AnnouncesItsPeakMemoryBeforeTheField) {
+// The run's estimated peak memory is announced before the repair (for the input's faces) and
+// before the field (with the remesh's size), so that a service can wait for it or refuse the
+// run; the estimate grows with the input's faces and with the remesh.
+TEST(PipelineRemesh, AnnouncesItsPeakMemoryBeforeTheRepairAndTheField) {
   EXPECT_LT(estimatedPeakMemoryMiB(1000, 1000), estimatedPeakMemoryMiB(2000, 1000));
   EXPECT_LT(estimatedPeakMemoryMiB(1000, 1000), estimatedPeakMemoryMiB(1000, 2000));
   // The 1.1M-face bunny at K = 139K peaked at 3505 MiB.
@@ -818,33 +819,35 @@ TEST(PipelineRemesh, AnnouncesItsPeakMemoryBeforeTheField) {
   RemeshOptions options;
   options.targetVertices = 300;
   std::vector<double> announced;
-  bool fieldStarted = false;
+  std::vector<std::string> stagesBefore;  // the stages reported before each announcement
+  std::string lastStage;
   RunContext context;
-  context.progress = [&](std::string_view stage, double) {
-    fieldStarted = fieldStarted || stage == stage::kField;
-  };
+  context.progress = [&](std::string_view stage, double) { lastStage = stage; };
   context.peakMemory = [&](double mib) {
-    EXPECT_FALSE(fieldStarted);
     announced.push_back(mib);
+    stagesBefore.push_back(lastStage);
   };
   remesh(toPolygonSoup(sphere), options, context);
-  ASSERT_FALSE(announced.empty());
+  ASSERT_GE(announced.size(), 2u);
+  EXPECT_EQ(stagesBefore.front(), "") << "announced before the repair";
+  EXPECT_DOUBLE_EQ(announced.front(), estimatedPeakMemoryMiB(sphere.n_faces(), 0.0));
+  EXPECT_EQ(stagesBefore.back(), stage::kRepair) << "announced before the field";
   // For the sphere's 1280 faces (none split at this K) and about 300 vertices.
   EXPECT_GT(announced.back(), estimatedPeakMemoryMiB(sphere.n_faces(), 0.5 * 300));
   EXPECT_LT(announced.back(), estimatedPeakMemoryMiB(sphere.n_faces(), 2.0 * 300));
 
-  // A caller that refuses the run stops it there.
+  // A caller that refuses the run stops it before the repair.
   context.peakMemory = [](double mib) {
     throw Error(ErrorCode::LimitExceeded, "needs " + std::to_string(mib) + " MiB");
   };
-  fieldStarted = false;
+  lastStage.clear();
   try {
     remesh(toPolygonSoup(sphere), options, context);
     ADD_FAILURE() << "not refused";
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::LimitExceeded);
   }
-  EXPECT_FALSE(fieldStarted);
+  EXPECT_EQ(lastStage, "");
 }
 
 TEST(PipelineRemesh, CancellationInsideAStageStopsTheRun) {
