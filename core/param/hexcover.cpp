@@ -104,16 +104,25 @@ void repairLocally(const Problem& p, Iterate& solution, Parameterization& result
 
 // Global stiffening: raise the weight of distorted triangles (weight += min(5·relative misfit,
 // 20), doubled around flipped ones) and re-solve, each re-solve followed by a rounding repair.
-// Stops after 3 re-solves without fewer flipped triangles: what remains is not a stiffness issue.
+// Stops after kStiffeningPatience re-solves without fewer flipped triangles: what remains is not a
+// stiffness issue.
 // A later re-solve can fold a triangle that an earlier one had unfolded, so the best iterate
 // (fewest flipped, then fewest degenerate triangles; the later one on ties) is the result.
+// Measured over the 73 stiffenings of 88 remeshes (the clean meshes at V/8 to V/64; clean,
+// half-refined and turned ones at V/4): 52 ended this way, 4 found fewer flipped triangles after
+// two re-solves without. With a patience of 2 instead of 3 the 52 coarse remeshes took 9% less
+// time (feline at V/64 25.0 -> 20.9 s) at the same quality (geometric means: Hausdorff distance
+// +0.9%, angle SD -1.1%); at V/4 only spot's three remeshes changed (Hausdorff 1.45 / 1.61 /
+// 1.62 -> 1.42 / 1.36 / 1.31%, angle SD +0.06 to +0.18°).
+constexpr int kStiffeningPatience = 2;
+
 void stiffen(const Problem& p, int maxIterations, Eigen::VectorXd& faceWeight, Iterate& it,
              Parameterization& result, const RunContext& context) {
   const int integerCount = p.unknowns.integerCount;
   int best = it.orientation.flipped + it.orientation.degenerate, sinceBest = 0;
   Iterate bestIterate = it;
   while ((it.orientation.flipped > 0 || it.orientation.degenerate > 0) &&
-         result.stiffeningIterations < maxIterations && sinceBest < 3) {
+         result.stiffeningIterations < maxIterations && sinceBest < kStiffeningPatience) {
     context.throwIfCanceled();
     const Eigen::VectorXd residual = p.ls.gradient * it.x - p.ls.target;
     for (int f = 0; f < static_cast<int>(p.mesh.n_faces()); ++f) {
