@@ -398,6 +398,8 @@ ServiceMetrics::Gauges JobService::gauges() const {
   ServiceMetrics::Gauges g;
   g.queueDepth = queue_.size();
   g.workers = workers_.size();
+  g.memoryBudgetMiB = memory_.totalMiB();
+  g.memoryReservedMiB = memory_.reservedMiB();
   {
     const std::lock_guard lock(mutex_);
     g.busyWorkers = active_.size();

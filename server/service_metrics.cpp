@@ -1,6 +1,7 @@
 #include "server/service_metrics.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace hexcover::server {
@@ -105,6 +106,15 @@ std::string ServiceMetrics::exposition(const Gauges& gauges) const {
   out += "hexcover_workers_busy " + std::to_string(gauges.busyWorkers) + "\n";
   header(out, "hexcover_workers", "gauge", "Size of the worker pool.");
   out += "hexcover_workers " + std::to_string(gauges.workers) + "\n";
+  constexpr double kBytesPerMiB = 1024.0 * 1024.0;
+  header(out, "hexcover_memory_budget_bytes", "gauge",
+         "Memory the running jobs may use together (--memory-budget).");
+  out += "hexcover_memory_budget_bytes " +
+         std::to_string(std::llround(gauges.memoryBudgetMiB * kBytesPerMiB)) + "\n";
+  header(out, "hexcover_memory_reserved_bytes", "gauge",
+         "Estimated peak memory of the running jobs, reserved from the budget.");
+  out += "hexcover_memory_reserved_bytes " +
+         std::to_string(std::llround(gauges.memoryReservedMiB * kBytesPerMiB)) + "\n";
   header(out, "hexcover_upload_bytes_total", "counter", "Bytes of accepted mesh uploads.");
   out += "hexcover_upload_bytes_total " + std::to_string(uploadedBytes_) + "\n";
   header(out, "hexcover_ready", "gauge",

@@ -37,6 +37,8 @@ class ServiceMetrics {
     std::size_t queueDepth = 0;
     std::size_t busyWorkers = 0;
     std::size_t workers = 0;
+    double memoryBudgetMiB = 0.0;    ///< what the running jobs may use together
+    double memoryReservedMiB = 0.0;  ///< their estimated peaks, reserved (memory_budget.h)
     std::map<api::JobState, std::size_t> jobsByState;
     bool ready = false;
   };

@@ -40,6 +40,9 @@ TEST(EndToEndOperations, MetricsExpositionPassesPromtoolAndCountsRequestsAndJobs
             std::string::npos);
   EXPECT_NE(text.find("hexcover_queue_jobs 0"), std::string::npos);
   EXPECT_NE(text.find("hexcover_workers_busy 0"), std::string::npos);
+  EXPECT_NE(text.find("hexcover_memory_budget_bytes "), std::string::npos);
+  EXPECT_NE(text.find("hexcover_memory_reserved_bytes 0\n"), std::string::npos)
+      << "every job done, nothing reserved";
   EXPECT_EQ(text.find(nlohmann::json::parse(posted->body).at("id").get<std::string>()),
             std::string::npos)
       << "never a job id as a label";

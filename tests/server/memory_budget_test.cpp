@@ -117,6 +117,8 @@ TEST(MemoryBudget, JobsThatDoNotFitSideBySideRunOneAfterTheOther) {
   EXPECT_EQ(service.find(second)->job.state, api::JobState::Running);
   EXPECT_EQ(service.find(second)->job.stage, "memory");
   EXPECT_EQ(engine.runs, 2);
+  EXPECT_EQ(service.gauges().memoryReservedMiB, 60.0) << "the first job's part (/metrics)";
+  EXPECT_EQ(service.gauges().memoryBudgetMiB, 100.0);
 
   const std::string huge = submitText(service, dir.path(), "huge", "# peak 500\n" + mesh);
   const auto refused = test::waitFinished(service, huge);
