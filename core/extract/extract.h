@@ -42,8 +42,9 @@
 //    of squares (valence 4 at the front).
 // 6. Components of the input whose remesh has fewer triangles than one hexagon (6), or not the
 //    component's topology (Euler characteristic, boundary loops, one piece), are copied
-//    unchanged (as given, before any refinement). When every component is copied, steps 7 and 8
-//    are skipped: the output is the input as it is.
+//    unchanged (as given, before any refinement): steps 7 and 8 leave their vertices and
+//    triangles as they are, and are skipped when every component is copied (the output is then
+//    the input as it is).
 // 7. Fit (surface_fit.h): vertices move over the input surface where the lattice cuts off a
 //    sharp crease or tip (feature snapping), next to poor triangles (smoothing) and where the
 //    angles stray from 60° (relaxation), when that does not raise the local deviation from the
