@@ -261,13 +261,13 @@ void JobService::runJob(const std::string& id) {
     return active->cancel || active->requeue || active->timedOut;
   };
   // While it waits for its memory (the budget polls), the job's stage says so.
-  context.peakMemory = [&memory, active, cancel = context.cancelRequested](double mib) {
+  context.peakMemory = [&memory, &context, active](double mib) {
     memory.raise(mib, [&] {
       {
         const std::lock_guard lock(active->mutex);
         active->stage = "memory";
       }
-      if (cancel()) throw Error(ErrorCode::Canceled, "the run was canceled");
+      context.throwIfCanceled();
     });
   };
 

@@ -38,6 +38,13 @@ struct PolygonSoup {
   std::size_t vertexCount() const { return positions.size(); }
   std::size_t faceCount() const { return faceStarts.size() - 1; }
   std::size_t faceSize(std::size_t f) const { return faceStarts[f + 1] - faceStarts[f]; }
+  /// Triangles of the faces fan-triangulated (a face of n ≥ 3 corners gives n − 2).
+  std::size_t triangleCount() const {
+    std::size_t triangles = 0;
+    for (std::size_t f = 0; f < faceCount(); ++f)
+      triangles += faceSize(f) >= 3 ? faceSize(f) - 2 : 0;
+    return triangles;
+  }
   /// Appends a face with the given vertex indices.
   template <typename Range>
   void addFace(const Range& vertices) {

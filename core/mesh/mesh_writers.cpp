@@ -162,9 +162,7 @@ void writePly(const PolygonSoup& soup, OutputFile& out) {
 }
 
 void writeStl(const PolygonSoup& soup, OutputFile& out) {
-  std::uint64_t triangles = 0;
-  for (std::size_t f = 0; f < soup.faceCount(); ++f)
-    triangles += soup.faceSize(f) >= 3 ? soup.faceSize(f) - 2 : 0;
+  const std::uint64_t triangles = soup.triangleCount();
   if (triangles > UINT32_MAX)
     throw Error(ErrorCode::LimitExceeded, "too many triangles for binary STL");
   // The header must not start with "solid", or readers could take the file for ASCII.

@@ -317,10 +317,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
 
   // 1. Repair, once the input's triangles have their memory (estimatedPeakMemoryMiB; the remesh's
   // part is reserved below, when its size is known).
-  std::size_t triangles = 0;
-  for (std::size_t f = 0; f < input.faceCount(); ++f)
-    triangles += input.faceSize(f) >= 3 ? input.faceSize(f) - 2 : 0;
-  context.reservePeakMemory(estimatedPeakMemoryMiB(triangles, 0.0));
+  context.reservePeakMemory(estimatedPeakMemoryMiB(input.triangleCount(), 0.0));
   context.report(stage::kRepair, 0.0);
   RepairedMesh repaired;
   {
