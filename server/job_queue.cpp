@@ -4,13 +4,52 @@
 
 namespace hexcover::server {
 
+JobQueue::JobQueue(std::size_t limit, int slots)
+    : limit_(limit), slots_(std::max(1, slots)), freeSlots_(slots_) {}
+
+JobQueue::Slot::~Slot() {
+  if (held_) queue_->releaseSlot();
+}
+
+JobQueue::Slot::Slot(Slot&& other) noexcept : queue_(other.queue_), held_(other.held_) {
+  other.held_ = false;
+}
+
+void JobQueue::Slot::suspend() {
+  if (!held_) return;
+  held_ = false;
+  queue_->releaseSlot();
+}
+
+void JobQueue::Slot::resume() {
+  if (held_) return;
+  queue_->takeSlot();
+  held_ = true;
+}
+
+void JobQueue::releaseSlot() {
+  {
+    const std::lock_guard lock(mutex_);
+    ++freeSlots_;
+  }
+  changed_.notify_all();
+}
+
+void JobQueue::takeSlot() {
+  std::unique_lock lock(mutex_);
+  ++resuming_;
+  changed_.wait(lock, [&] { return freeSlots_ > 0; });
+  --resuming_;
+  --freeSlots_;
+}
+
 bool JobQueue::push(const std::string& id) {
   {
     const std::lock_guard lock(mutex_);
     if (closed_ || ids_.size() >= limit_) return false;
     ids_.push_back(id);
   }
-  available_.notify_one();
+  changed_.notify_all();
   return true;
 }
 
@@ -19,16 +58,17 @@ void JobQueue::restore(const std::string& id) {
     const std::lock_guard lock(mutex_);
     ids_.push_back(id);
   }
-  available_.notify_one();
+  changed_.notify_all();
 }
 
-std::optional<std::string> JobQueue::pop() {
+std::optional<JobQueue::Taken> JobQueue::pop() {
   std::unique_lock lock(mutex_);
-  available_.wait(lock, [&] { return closed_ || !ids_.empty(); });
+  changed_.wait(lock, [&] { return closed_ || (!ids_.empty() && freeSlots_ > resuming_); });
   if (closed_) return std::nullopt;
-  std::string id = std::move(ids_.front());
+  --freeSlots_;
+  Taken taken{std::move(ids_.front()), Slot(*this)};
   ids_.pop_front();
-  return id;
+  return taken;
 }
 
 bool JobQueue::remove(const std::string& id) {
@@ -56,12 +96,17 @@ bool JobQueue::full() const {
   return ids_.size() >= limit_;
 }
 
+int JobQueue::busySlots() const {
+  const std::lock_guard lock(mutex_);
+  return slots_ - freeSlots_;
+}
+
 void JobQueue::close() {
   {
     const std::lock_guard lock(mutex_);
     closed_ = true;
   }
-  available_.notify_all();
+  changed_.notify_all();
 }
 
 }  // namespace hexcover::server

@@ -53,7 +53,7 @@ JobService::JobService(JobServiceOptions options, JobStore& store, const Engine&
       engine_(engine),
       metrics_(metrics),
       log_(log),
-      queue_(options_.queueLimit),
+      queue_(options_.queueLimit, options_.workers),
       memory_(options_.memoryBudgetMiB) {}
 
 JobService::~JobService() {
@@ -69,10 +69,10 @@ void JobService::start() {
   removeTree(uploadDir());  // partial uploads of a previous run
   fs::create_directories(uploadDir());
   recover();
-  for (int i = 0; i < std::max(1, options_.workers); ++i)
-    workers_.emplace_back([this] { workerLoop(); });
+  // Two threads per slot: the second takes a queued job while the first one's waits for memory.
+  for (int i = 0; i < 2 * queue_.slots(); ++i) workers_.emplace_back([this] { workerLoop(); });
   sweeper_ = std::thread([this] { sweepLoop(); });
-  log_.info("job_service_started", {{"workers", workers_.size()}, {"queued", queue_.size()}});
+  log_.info("job_service_started", {{"workers", queue_.slots()}, {"queued", queue_.size()}});
 }
 
 void JobService::recover() {
@@ -216,16 +216,16 @@ void JobService::endReceiving(const std::string& idempotencyKey) {
 }
 
 void JobService::workerLoop() {
-  while (const auto id = queue_.pop()) {
+  while (auto taken = queue_.pop()) {
     try {
-      runJob(*id);
+      runJob(taken->id, taken->slot);
     } catch (const std::exception& e) {  // the store failed: log, keep the worker alive
-      log_.error("worker_error", {{"job", *id}, {"error", e.what()}});
+      log_.error("worker_error", {{"job", taken->id}, {"error", e.what()}});
     }
   }
 }
 
-void JobService::runJob(const std::string& id) {
+void JobService::runJob(const std::string& id, JobQueue::Slot& slot) {
   JobRecord job;
   const auto active = std::make_shared<ActiveJob>();
   {
@@ -260,15 +260,20 @@ void JobService::runJob(const std::string& id) {
     if (std::chrono::steady_clock::now() > deadline) active->timedOut = true;
     return active->cancel || active->requeue || active->timedOut;
   };
-  // While it waits for its memory (the budget polls), the job's stage says so.
-  context.peakMemory = [&memory, &context, active](double mib) {
+  // While it waits for its memory (the budget polls), the job's stage says so, and its slot
+  // runs a queued job.
+  context.peakMemory = [&memory, &context, &slot, active](double mib) {
+    bool waited = false;
     memory.raise(mib, [&] {
-      {
+      if (!waited) {
+        waited = true;
+        slot.suspend();
         const std::lock_guard lock(active->mutex);
         active->stage = "memory";
       }
       context.throwIfCanceled();
     });
+    if (waited) slot.resume();
   };
 
   const fs::path dir = jobDir(id);
@@ -397,13 +402,10 @@ void JobService::stopThreads() {
 ServiceMetrics::Gauges JobService::gauges() const {
   ServiceMetrics::Gauges g;
   g.queueDepth = queue_.size();
-  g.workers = workers_.size();
+  g.workers = queue_.slots();
   g.memoryBudgetMiB = memory_.totalMiB();
   g.memoryReservedMiB = memory_.reservedMiB();
-  {
-    const std::lock_guard lock(mutex_);
-    g.busyWorkers = active_.size();
-  }
+  g.busyWorkers = queue_.busySlots();
   g.jobsByState = store_.countByState();
   g.ready = !draining_;
   return g;

@@ -118,7 +118,7 @@ class JobService {
  private:
   struct ActiveJob;
   void workerLoop();
-  void runJob(const std::string& id);
+  void runJob(const std::string& id, JobQueue::Slot& slot);
   void sweepLoop();
   void recover();
   void expire(double now);

@@ -1,8 +1,9 @@
 // hexcover-server: the remeshing service (HTTP API v1). See server/http_server.h for the API and
 // server/config.h for the flags and HEXCOVER_* variables.
 //
-// Threads: the HTTP pool (config.httpThreads), the remeshing workers (config.workers, one per
-// usable CPU by default), the retention sweeper, and this main thread, which waits for SIGTERM or
+// Threads: the HTTP pool (config.httpThreads), the remeshing workers (config.workers jobs compute
+// at once, one per usable CPU by default, on two threads each: server/job_queue.h), the retention
+// sweeper, and this main thread, which waits for SIGTERM or
 // SIGINT (sigwait) and then drains: /readyz answers 503, new uploads get 503, running jobs get
 // the grace period and are then put back in the queue; exit status 0.
 

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -25,8 +26,33 @@ MemoryBudget::Share::~Share() {
   {
     const std::lock_guard lock(budget_.mutex_);
     budget_.reserved_ -= reserved_;
+    budget_.distributeLocked(reserved_);
   }
   budget_.freed_.notify_all();
+}
+
+void MemoryBudget::distributeLocked(double freedMiB) {
+  // Only what is really free of it: running jobs may hold more than the budget for a while.
+  double left = std::min(freedMiB, std::max(0.0, unclaimedLocked()));
+  for (Waiter& waiter : waiters_) {
+    if (left <= 0.0) break;
+    if (waiter.granted) continue;
+    const double part = std::min(left, waiter.need - waiter.setAside);
+    waiter.setAside += part;
+    setAside_ += part;
+    left -= part;
+  }
+  grantLocked();
+}
+
+void MemoryBudget::grantLocked() {
+  for (Waiter& waiter : waiters_)
+    if (!waiter.granted && waiter.need - waiter.setAside <= unclaimedLocked()) {
+      setAside_ -= waiter.setAside;
+      reserved_ += waiter.need;
+      waiter.setAside = 0.0;
+      waiter.granted = true;
+    }
 }
 
 void MemoryBudget::Share::raise(double peakMiB, const std::function<void()>& stop) {
@@ -41,15 +67,36 @@ void MemoryBudget::Share::raise(double peakMiB, const std::function<void()>& sto
     throw Error(ErrorCode::LimitExceeded, message.str());
   }
   std::unique_lock lock(budget_.mutex_);
-  // Only a job that holds nothing waits; one that holds a part takes more at once.
-  if (reserved_ <= 0.0)
-    while (budget_.reserved_ + peakMiB > budget_.total_) {
-      budget_.freed_.wait_for(lock, std::chrono::milliseconds(100));
-      lock.unlock();
+  // A job that holds a part takes more at once; one that holds nothing starts at once only
+  // when its peak fits in what the waiters have not claimed.
+  if (reserved_ > 0.0 || peakMiB <= budget_.unclaimedLocked()) {
+    budget_.reserved_ += peakMiB - reserved_;
+    reserved_ = peakMiB;
+    return;
+  }
+  const auto waiter = budget_.waiters_.insert(budget_.waiters_.end(), Waiter{peakMiB});
+  while (!waiter->granted) {
+    budget_.freed_.wait_for(lock, std::chrono::milliseconds(100));
+    if (waiter->granted) break;
+    lock.unlock();
+    try {
       stop();
+    } catch (...) {
       lock.lock();
+      const double setAside = waiter->setAside;
+      if (waiter->granted) reserved_ = peakMiB;  // the destructor returns it
+      budget_.waiters_.erase(waiter);
+      if (setAside > 0.0) {  // passed on to the next waiters
+        budget_.setAside_ -= setAside;
+        budget_.distributeLocked(setAside);
+      }
+      lock.unlock();
+      budget_.freed_.notify_all();
+      throw;
     }
-  budget_.reserved_ += peakMiB - reserved_;
+    lock.lock();
+  }
+  budget_.waiters_.erase(waiter);
   reserved_ = peakMiB;
 }
 

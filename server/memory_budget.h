@@ -5,9 +5,15 @@
 // exhausting the machine (which would end the whole server). A job that would not fit even alone
 // is refused. Later, larger announcements of a running job are granted without waiting (a job
 // that holds memory never waits for another: no deadlock), as long as it fits the whole budget.
+//
+// Waiting jobs are served first come, first served without blocking smaller ones: memory that
+// comes free while jobs wait is set aside for the longest-waiting one until it has its peak, and
+// a job that fits in what is free and not set aside starts at once. So small jobs pass a large
+// waiting one, and a stream of them cannot starve it.
 
 #include <condition_variable>
 #include <functional>
+#include <list>
 #include <mutex>
 
 namespace hexcover::server {
@@ -43,10 +49,25 @@ class MemoryBudget {
   };
 
  private:
+  /// A job waiting for its first part: `setAside` of its `need` is kept for it already.
+  struct Waiter {
+    double need;
+    double setAside = 0.0;
+    bool granted = false;
+  };
+  /// What is neither reserved nor set aside (negative while running jobs' raises overcommit).
+  double unclaimedLocked() const { return total_ - reserved_ - setAside_; }
+  /// `freedMiB` came free: sets it aside for the waiters in order, then grants whom it can.
+  void distributeLocked(double freedMiB);
+  /// Grants, in order, every waiter whose rest fits in the unclaimed memory.
+  void grantLocked();
+
   const double total_;
   mutable std::mutex mutex_;
   std::condition_variable freed_;
   double reserved_ = 0.0;
+  double setAside_ = 0.0;      ///< sum of the waiters' setAside
+  std::list<Waiter> waiters_;  ///< first come first
 };
 
 /// The memory this process may use in MiB: the physical memory, capped by the cgroup's memory
