@@ -79,6 +79,20 @@ TEST(PipelineRemesh, RedoesARemeshWhoseTopologyDiffersFromTheInput) {
   EXPECT_LE(result.metrics.angleMax, 130.0);
 }
 
+// feline at K = 1000: its field, with singularities clustered within d_sing = 6 h, folded every
+// lattice into another topology, down to 0.37 h, and the input came back copied (49,864
+// vertices). The field is now computed again with d_sing halved, which keeps the genus.
+TEST(PipelineRemesh, RecomputesTheFieldWhenNoLatticeAlongItKeepsTheTopology) {
+  HEXCOVER_SHARED_MESH_OR_SKIP(path, "clean/feline.off");
+  RemeshOptions options;
+  options.targetVertices = 1000;
+  const RemeshResult result = remesh(readMesh(path), options);
+  EXPECT_EQ(result.remesh.report.componentsKept, 0);
+  EXPECT_EQ(result.metrics.topology.genus(), 2);
+  EXPECT_LT(result.remesh.triangles.n_vertices(), 3000u);
+  EXPECT_LT(result.singularityDistance, 4.0 * result.edgeLength);
+}
+
 // The Stanford bunny at an eighth of its vertices: the first lattice splits a piece off the
 // surface, so its triangles lack the component's topology and the component was copied. The
 // copy's 34,834 vertices then read as a count 8 times too high: h grew by √8 a run, and on the
