@@ -164,6 +164,9 @@ class LatticeRunProgress {
   int started_ = 0;
 };
 
+/// Runs along one field (remeshAlongField), unless its lattices keep missing the topology.
+constexpr int kRunsAlongField = 4;
+
 /// The best run along one field, with the runs it took.
 struct Remeshing {
   LatticeRun best;
@@ -215,7 +218,7 @@ std::vector<std::string> remeshWarnings(const Remeshing& chosen, const RemeshOpt
   return warnings;
 }
 
-/// Parameterization and extraction along `field`, at most kMaxRuns times. With a target vertex
+/// Parameterization and extraction along `field`, at most `maxRuns` times. With a target vertex
 /// count, h is rescaled by sqrt(V / K) until the remesh is within 8% of K (the promise is 10%). A
 /// remesh whose topology differs from the repaired input's (fold-overs that neither the
 /// parameterization nor the extraction's repair removed), or that lost a part of the input
@@ -226,9 +229,8 @@ std::vector<std::string> remeshWarnings(const Remeshing& chosen, const RemeshOpt
 /// then the vertex count closest to K. So a vertex count too small for the shape gives a remesh
 /// with more vertices (and a warning that says why) rather than the input copied unchanged
 /// (fertility at K = 218: 353 vertices; the input has 13,971) or without a limb.
-Remeshing remeshAlongField(const RosyField& field, const LatticeRuns& runs, Timings& timings,
-                           LatticeRunProgress& progress) {
-  constexpr int kMaxRuns = 4;
+Remeshing remeshAlongField(const RosyField& field, const LatticeRuns& runs, int maxRuns,
+                           Timings& timings, LatticeRunProgress& progress) {
   constexpr double kTopologyRetryScale = 0.97;
   constexpr double kCoarseTopologyScale = 0.85;
   using Clock = std::chrono::steady_clock;
@@ -283,7 +285,10 @@ Remeshing remeshAlongField(const RosyField& field, const LatticeRuns& runs, Timi
     const bool done = kept && !rescale;
     misses += kept ? 0 : 1;
     if (!best || current.betterThan(*best)) best = std::move(current);
-    if (done || run == kMaxRuns) return Remeshing{std::move(*best), run, misses};
+    // Runs beyond kRunsAlongField only look for the topology, not for the vertex count.
+    const bool shapeFound = best->topologyKept && best->shapeKept;
+    if (done || run == maxRuns || (run >= kRunsAlongField && shapeFound))
+      return Remeshing{std::move(*best), run, misses};
     h *= rescale                        ? std::sqrt(vertices / target)
          : misses > 1 && runs.mayRefine ? kCoarseTopologyScale
                                         : kTopologyRetryScale;
@@ -428,15 +433,16 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
                          options.edgeLength,
                          !options.edgeLength && 2 * target < inputVertices};
   LatticeRunProgress runProgress(context);
-  Remeshing chosen = remeshAlongField(field, runs, result.timings, runProgress);
+  Remeshing chosen = remeshAlongField(field, runs, kRunsAlongField, result.timings, runProgress);
   result.sizeIterations = chosen.runs;
   // When no lattice along the field kept the input's topology, the field's singularities are
   // likely merged too far for the shape: clustered within d_sing, like-signed ones become nodes
   // of higher index that the parameterization folds around. The field is computed again with
-  // d_sing halved, twice at most, and its runs are kept when they do better. Feline at K = 700
-  // to 1100 (d_sing = 6 h) had all runs fold into another topology and came back as its input
-  // copied (49,864 vertices); at K = 1000 even 8 runs down to 0.37 h did.
-  constexpr int kFieldRetries = 2;
+  // d_sing halved, twice at most, and its runs are kept when they do better; the last field gets
+  // kLastFieldRuns runs, h shrinking further. Feline at K = 700 to 1100 (d_sing = 6 h) had all
+  // runs fold into another topology and came back as its input copied (49,864 vertices); at
+  // K = 1000 even 8 runs down to 0.37 h did. At K = 850 the fifth run of the last field keeps it.
+  constexpr int kFieldRetries = 2, kLastFieldRuns = 8;
   for (int retry = 1;
        retry <= kFieldRetries && !chosen.best.topologyKept && !options.dSing && runs.mayRefine;
        ++retry) {
@@ -444,7 +450,9 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
     const FieldOptions usedOptions = fieldOptions;
     RosyField finer = computeField(std::ldexp(1.0, -retry));
     context.throwIfCanceled();
-    Remeshing again = remeshAlongField(finer, runs, result.timings, runProgress);
+    Remeshing again =
+        remeshAlongField(finer, runs, retry == kFieldRetries ? kLastFieldRuns : kRunsAlongField,
+                         result.timings, runProgress);
     result.sizeIterations += again.runs;
     if (again.best.betterThan(chosen.best)) {
       chosen = std::move(again);
@@ -474,7 +482,8 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   if (compatibleField) {
     addTiming(result.timings, stage::kField, secondsSince(start));
     context.throwIfCanceled();
-    Remeshing compatible = remeshAlongField(*compatibleField, runs, result.timings, runProgress);
+    Remeshing compatible =
+        remeshAlongField(*compatibleField, runs, kRunsAlongField, result.timings, runProgress);
     result.sizeIterations += compatible.runs;
     // What comes before the shape: the topology, no part lost, the components copied, the
     // vertex count.
