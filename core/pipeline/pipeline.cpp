@@ -167,6 +167,12 @@ class LatticeRunProgress {
 /// Runs along one field (remeshAlongField), unless its lattices keep missing the topology.
 constexpr int kRunsAlongField = 4;
 
+/// A direction field with the options it was computed with.
+struct SolvedField {
+  RosyField field;
+  FieldOptions options;
+};
+
 /// The best run along one field, with the runs it took.
 struct Remeshing {
   LatticeRun best;
@@ -373,29 +379,30 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   // 2. Sizing (curvature sizing is smoothed over kSizingSmoothingInEdges uniform edge lengths),
   // h and the field, on the input as refined.
   std::vector<double> sizing;
-  FieldOptions fieldOptions;
+  const auto computeSizing = [&] {
+    if (options.sizing != Sizing::Curvature) return;
+    const auto start = Clock::now();
+    sizing = smoothSizing(mesh, curvatureSizing(computeCurvature(mesh).largestAbsolute()),
+                          kSizingSmoothingInEdges * uniform);
+    addTiming(result.timings, "sizing", secondsSince(start));
+  };
+  // The field with d_sing = dSingScale × its default (unless d_sing is given).
   const auto computeField = [&](double dSingScale) {
-    auto start = Clock::now();
-    if (options.sizing == Sizing::Curvature) {
-      sizing = smoothSizing(mesh, curvatureSizing(computeCurvature(mesh).largestAbsolute()),
-                            kSizingSmoothingInEdges * uniform);
-      addTiming(result.timings, "sizing", secondsSince(start));
-    }
+    const auto start = Clock::now();
     const double h = options.edgeLength
                          ? *options.edgeLength
                          : edgeLengthForVertexCount(mesh, static_cast<int>(target), 6, sizing);
-    result.singularityDistance =
+    const double singularityDistance =
         options.dSing.value_or(dSingScale * kSingularityDistanceInEdges * h);
-    start = Clock::now();
-    fieldOptions = parameterizationFieldOptions(options.rosy, h, result.singularityDistance,
-                                                options.featureAngle);
+    FieldOptions fieldOptions =
+        parameterizationFieldOptions(options.rosy, h, singularityDistance, options.featureAngle);
     if (const std::string problem = fieldOptions.validate(); !problem.empty())
       throw Error(ErrorCode::InvalidOption, problem);
     // d_sing = 0 means "no clustering" to the caller; the field reads 0 as "use the default".
-    fieldOptions.clusterSingularities = result.singularityDistance > 0.0;
+    fieldOptions.clusterSingularities = singularityDistance > 0.0;
     RosyField field = computeRosyField(mesh, fieldOptions, context);
     addTiming(result.timings, stage::kField, secondsSince(start));
-    return field;
+    return SolvedField{std::move(field), fieldOptions};
   };
   // Edges beyond kInputEdgeInEdgeLengths are split first. Interior singularities of a higher
   // index than the lattice takes, which the field could not split for want of vertices around
@@ -411,10 +418,13 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   reserveMemory(std::max(mesh.n_faces(), static_cast<std::size_t>(latticeVertices / 8.0)));
   refine(kInputEdgeInEdgeLengths);
   reserveMemory(mesh.n_faces());
-  RosyField field = computeField(1.0);
-  if (needsFinerInputForLattice(field, latticeVertices) && refine(kCoarseInputEdgeInEdgeLengths)) {
+  computeSizing();
+  SolvedField solved = computeField(1.0);
+  if (needsFinerInputForLattice(solved.field, latticeVertices) &&
+      refine(kCoarseInputEdgeInEdgeLengths)) {
     reserveMemory(mesh.n_faces());
-    field = computeField(1.0);
+    computeSizing();
+    solved = computeField(1.0);
   }
   context.throwIfCanceled();
 
@@ -433,7 +443,8 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
                          options.edgeLength,
                          !options.edgeLength && 2 * target < inputVertices};
   LatticeRunProgress runProgress(context);
-  Remeshing chosen = remeshAlongField(field, runs, kRunsAlongField, result.timings, runProgress);
+  Remeshing chosen =
+      remeshAlongField(solved.field, runs, kRunsAlongField, result.timings, runProgress);
   result.sizeIterations = chosen.runs;
   // When no lattice along the field kept the input's topology, the field's singularities are
   // likely merged too far for the shape: clustered within d_sing, like-signed ones become nodes
@@ -446,22 +457,18 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   for (int retry = 1;
        retry <= kFieldRetries && !chosen.best.topologyKept && !options.dSing && runs.mayRefine;
        ++retry) {
-    const double usedDistance = result.singularityDistance;
-    const FieldOptions usedOptions = fieldOptions;
-    RosyField finer = computeField(std::ldexp(1.0, -retry));
+    SolvedField finer = computeField(std::ldexp(1.0, -retry));
     context.throwIfCanceled();
-    Remeshing again =
-        remeshAlongField(finer, runs, retry == kFieldRetries ? kLastFieldRuns : kRunsAlongField,
-                         result.timings, runProgress);
+    Remeshing again = remeshAlongField(finer.field, runs,
+                                       retry == kFieldRetries ? kLastFieldRuns : kRunsAlongField,
+                                       result.timings, runProgress);
     result.sizeIterations += again.runs;
     if (again.best.betterThan(chosen.best)) {
       chosen = std::move(again);
-      field = std::move(finer);
-    } else {
-      result.singularityDistance = usedDistance;
-      fieldOptions = usedOptions;
+      solved = std::move(finer);
     }
   }
+  result.singularityDistance = solved.options.singularityDistance;
 
   // Crease lines that meet at angles other than multiples of 60° (a box's 90° corners) cannot all
   // be lattice lines; a field that follows them all twists between them. The field that follows
@@ -478,7 +485,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   std::optional<QualityReport> metrics;
   auto start = Clock::now();
   std::optional<RosyField> compatibleField =
-      computeCompatibleCreaseField(mesh, field, fieldOptions, context);
+      computeCompatibleCreaseField(mesh, solved.field, solved.options, context);
   if (compatibleField) {
     addTiming(result.timings, stage::kField, secondsSince(start));
     context.throwIfCanceled();
@@ -506,10 +513,10 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
     }
     if (takeCompatible) {
       chosen = std::move(compatible);
-      field = std::move(*compatibleField);
+      solved.field = std::move(*compatibleField);
     }
   }
-  result.singularities = field.singularities;
+  result.singularities = solved.field.singularities;
   result.warnings = remeshWarnings(chosen, options);
   Parameterization param = std::move(chosen.best.param);
   result.remesh = std::move(chosen.best.remesh);

@@ -103,10 +103,11 @@ class HoldingJob {
     if (thread_.joinable()) thread_.join();
   }
   bool granted() const { return granted_; }
-  /// Waits until the job polls while waiting for its part (true) or has it (false).
+  /// Whether the job polls while waiting for its part, once it does or has the part (up to 2 s).
   bool waits() const {
-    while (!waiting_ && !granted_) std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    return !granted_;
+    for (int i = 0; i < 1000 && !waiting_ && !granted_; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    return waiting_ && !granted_;
   }
   void release() { release_ = true; }
   void cancel() { cancel_ = true; }
