@@ -97,6 +97,7 @@ nlohmann::json metricsDocument(const RemeshResult& result) {
                         {"lattice_point_copies_merged", r.latticePointCopiesMerged},
                         {"unmatched_boundary_loops", r.unmatchedBoundaryLoops},
                         {"pinched_fan_triangles", r.pinchedFanTriangles},
+                        {"farthest_centroid", r.farthestCentroid},
                         {"components_kept", r.componentsKept},
                         {"components_kept_for_topology", r.componentsKeptForTopology},
                         {"components", r.components},

@@ -1,5 +1,6 @@
 #include "core/extract/extract.h"
 
+#include <algorithm>
 #include <optional>
 #include <string>
 
@@ -41,6 +42,17 @@ void ExtractOptions::validate() const {
 }
 
 namespace {
+
+/// Largest distance of a triangle's centroid from the surface that `input` queries.
+double farthestCentroid(const TriMesh& mesh, const ClosestPointQuery& input) {
+  double farthest = 0.0;
+  for (const auto f : mesh.faces()) {
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (const auto v : f.vertices()) centroid += toEigen(mesh.point(v)) / 3.0;
+    farthest = std::max(farthest, input.closest(centroid).distance);
+  }
+  return farthest;
+}
 
 /// Connected components of faces (through edges), numbered in order of their lowest face.
 std::vector<int> faceComponents(const TriMesh& mesh, int& count) {
@@ -175,7 +187,9 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     // Pairs that the fit and the repairs made square enough.
     report.mergedTrianglePairs += pairTriangles(result.triangles, partner);
     result.quads = pairSquares(result.triangles, partner);
-  } else {
+  }
+  if (inputQuery) report.farthestCentroid = farthestCentroid(result.triangles, *inputQuery);
+  if (!quads) {
     ScopedTimer timer(report.timings, "hexagonal dual");
     context.report(stage::kExtraction, 0.9);
     result.hexDual = hexagonalDual(result.triangles);

@@ -156,6 +156,9 @@ struct ExtractionReport {
   long long nonManifoldFacesDropped = 0;  ///< faces OpenMesh still refused (would be non-manifold)
   /// Step 4: short edges between two copies of one lattice point, collapsed.
   long long latticePointCopiesMerged = 0;
+  /// Largest distance of an output triangle's centroid from the input surface (model units; 0
+  /// without the fit, step 7): a triangle far off it spans a hole or a fold of a strip or fill.
+  double farthestCentroid = 0.0;
   Timings timings;
 };
 

@@ -93,6 +93,22 @@ TEST(PipelineRemesh, RecomputesTheFieldWhenNoLatticeAlongItKeepsTheTopology) {
   EXPECT_LT(result.singularityDistance, 4.0 * result.edgeLength);
 }
 
+// The Stanford bunny at K = 3594: the first lattice split a piece off (copied for its topology),
+// and the second, at h 3% smaller, kept the topology, but its strip at a scanned hole in the base
+// narrower than an edge zipped across the hole: a triangle's centroid 1.02 h off the input
+// (Hausdorff distance 2.69%, angles 13.9-141.1°). Such a run is now redone with h 3% off (not
+// the h that was copied) and then rescaled half-way to the count: 3841 vertices, 0.23 h.
+TEST(PipelineRemesh, RedoesARunWhoseStripSpansAHoleOfTheScan) {
+  HEXCOVER_SHARED_MESH_OR_SKIP(path, "clean/stanford-bunny.obj");
+  const RemeshResult result = remeshRedoneToVertexCount(path, 3594);
+  EXPECT_LT(result.remesh.report.farthestCentroid, 0.6 * result.edgeLength);
+  ASSERT_TRUE(result.metrics.distance.has_value());
+  EXPECT_LT(result.metrics.distance->hausdorffPct, 1.0);
+  EXPECT_GE(result.metrics.angleMin, 20.0);
+  EXPECT_LE(result.metrics.angleMax, 130.0);
+  EXPECT_TRUE(result.warnings.empty()) << result.warnings.front();
+}
+
 // The Stanford bunny at an eighth of its vertices: the first lattice splits a piece off the
 // surface, so its triangles lack the component's topology and the component was copied. The
 // copy's 34,834 vertices then read as a count 8 times too high: h grew by √8 a run, and on the
@@ -347,6 +363,27 @@ TEST(PipelineRemesh, PlacesVerticesOnTheInputOrBalancedAboutIt) {
   EXPECT_LT(balanced.metrics.distance->hausdorffPct,
             0.8 * onSurface.metrics.distance->hausdorffPct);
   expectQualityFloors(balanced, "balanced torus");
+}
+
+// The extraction reports how far its triangles' centroids are from the input, which the pipeline
+// redoes a run for beyond 0.6 h: on a coarse torus, whose triangles cut into it, as measured
+// here, and within that bound.
+TEST(PipelineRemesh, ReportsHowFarItsTrianglesAreFromTheInput) {
+  const TriMesh torus = makeTorus(1.0, 0.4, 160, 64);
+  const ClosestPointQuery onInput(torus);
+  RemeshOptions options;
+  options.targetVertices = 400;
+  const RemeshResult result = remesh(toPolygonSoup(torus), options);
+  const TriMesh& out = result.remesh.triangles;
+  double farthest = 0.0;
+  for (const auto f : out.faces()) {
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (const auto v : f.vertices()) centroid += toEigen(out.point(v)) / 3.0;
+    farthest = std::max(farthest, onInput.closest(centroid).distance);
+  }
+  EXPECT_GT(farthest, 0.01 * result.edgeLength);
+  EXPECT_NEAR(result.remesh.report.farthestCentroid, farthest, 1e-12);
+  EXPECT_LT(farthest, 0.6 * result.edgeLength);
 }
 
 // Creases: a box remeshed with its edges followed by rows of remesh edges. Without crease
