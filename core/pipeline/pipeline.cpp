@@ -13,6 +13,7 @@
 #include "core/common/memory.h"
 #include "core/geometry/closest_point.h"
 #include "core/geometry/curvature.h"
+#include "core/geometry/frames.h"
 #include "core/mesh/refine.h"
 #include "core/mesh/repair.h"
 #include "core/mesh/topology.h"
@@ -110,9 +111,29 @@ double farthestInputVertex(const TriMesh& input, const TriMesh& remesh) {
 /// 0.64 units, 1.7%). Every other remesh of the clean meshes at K = V/4 to V/64 and of the bunny
 /// at K = 2000 to 9000: at most 0.5 units.
 constexpr double kStrayCentroidInEdges = 0.6;
-/// Runs after one that kept the topology, the shape and the count but strayed off the input
-/// (kStrayCentroidInEdges), with h 3% off: the lattice falls differently.
-constexpr int kStrayRetries = 2;
+/// A remesh with an angle outside [kSliverDegrees, kBluntDegrees] has a sliver well beyond the
+/// floors of 20° and 130°, which another lattice may not have. Of 185 remeshes (the clean
+/// meshes at K = V/4 to V/64, the Stanford bunny at K = 2000 to 9000) three had one: the bunny
+/// at K = 1123 (13.1-147.1°, a fan of slivers where the strip meets its base's holes) and venus
+/// at K = 11 (8.0°) are redone without (21.8-115.0°, 25.2-100.7°), the bunny at K = 6500 is not.
+/// With the floors' bounds instead, 18 more would be redone, at 1-3 runs each, for 2 better.
+constexpr double kSliverDegrees = 15.0;
+constexpr double kBluntDegrees = 140.0;
+/// Runs after one that kept the topology, the shape and the count but has a flaw (a triangle
+/// off the input, kStrayCentroidInEdges, or a sliver, kSliverDegrees), with h 3% off: the
+/// lattice falls differently.
+constexpr int kFlawRetries = 2;
+
+/// Whether a triangle of `mesh` has an angle below kSliverDegrees or above kBluntDegrees.
+bool hasSliver(const TriMesh& mesh) {
+  constexpr double kDegrees = 180.0 / M_PI;
+  const std::vector<double> angles = cornerAngles(mesh);
+  return std::any_of(mesh.halfedges_begin(), mesh.halfedges_end(), [&](const auto h) {
+    if (mesh.is_boundary(h)) return false;
+    const double degrees = angles[h.idx()] * kDegrees;
+    return degrees < kSliverDegrees || degrees > kBluntDegrees;
+  });
+}
 
 /// One parameterization and extraction.
 struct LatticeRun {
@@ -123,16 +144,19 @@ struct LatticeRun {
                                ///< topologyKept
   double farthestInput = 0.0;  ///< largest distance from the input's vertices to the remesh
   bool strayed = false;        ///< a triangle off the input (kStrayCentroidInEdges)
+  bool slivered = false;       ///< a sliver (kSliverDegrees, kBluntDegrees)
   double countError = 0.0;     ///< |V − K| / K, 0 without a target count
 
+  bool flawed() const { return strayed || slivered; }
   /// The input's topology first, then its shape, a vertex count within kCountPromise, no
-  /// triangle off the input, and the vertex count closest to K.
+  /// triangle off the input, no sliver, and the vertex count closest to K.
   bool betterThan(const LatticeRun& other) const {
     if (topologyKept != other.topologyKept) return topologyKept;
     if (shapeKept != other.shapeKept) return shapeKept;
     const bool counted = countError <= kCountPromise;
     if (counted != (other.countError <= kCountPromise)) return counted;
     if (strayed != other.strayed) return !strayed;
+    if (slivered != other.slivered) return !slivered;
     return countError < other.countError;
   }
 };
@@ -250,7 +274,8 @@ std::vector<std::string> remeshWarnings(const Remeshing& chosen, const RemeshOpt
 /// second miss means the lattice is too coarse for the shape (a handle or a part narrower than a
 /// few edge lengths), and h then shrinks by 15% per run when h comes from a vertex count K below
 /// half the input's vertices. A remesh that keeps all that but has a triangle off the input
-/// (kStrayCentroidInEdges) is redone with h 3% off, towards K, up to kStrayRetries times. The best
+/// (kStrayCentroidInEdges) or a sliver (kSliverDegrees) is redone with h 3% off, towards K, up
+/// to kFlawRetries times. The best
 /// run is kept (LatticeRun::betterThan). So a vertex count too small for the shape gives a remesh
 /// with more vertices (and a warning that says why) rather than the input copied unchanged
 /// (fertility at K = 218: 353 vertices; the input has 13,971) or without a limb.
@@ -262,7 +287,7 @@ Remeshing remeshAlongField(const RosyField& field, const LatticeRuns& runs, int 
   const auto target = static_cast<double>(runs.target);
   std::optional<LatticeRun> best;
   int misses = 0;
-  int strayRetries = 0;
+  int flawRetries = 0;
   std::vector<double> triedH;  // the h of each run
   double h = runs.edgeLength.value_or(0.0);
   // The coarsest lattice unit is h / (smallest sizing).
@@ -307,11 +332,12 @@ Remeshing remeshAlongField(const RosyField& field, const LatticeRuns& runs, int 
     const bool kept = current.topologyKept && current.shapeKept;
     current.strayed =
         report.farthestCentroid > kStrayCentroidInEdges * coarsest * current.param.edgeLength;
+    current.slivered = hasSliver(current.remesh.triangles);
     const double vertices = static_cast<double>(current.remesh.triangles.n_vertices());
     if (runs.targetGiven) current.countError = std::abs(vertices - target) / target;
     // The vertices of a remesh that lost a part do not measure h for the whole input either.
-    // A run after a stray keeps its h within the promise: a rescale would take it back.
-    const double tolerance = strayRetries > 0 ? kCountPromise : kCountTolerance;
+    // A run after a flaw keeps its h within the promise: a rescale would take it back.
+    const double tolerance = flawRetries > 0 ? kCountPromise : kCountTolerance;
     const bool rescale =
         current.countError > tolerance && vertices > 0.0 && !latticeTooCoarse && current.shapeKept;
     const bool done = kept && !rescale;
@@ -319,27 +345,34 @@ Remeshing remeshAlongField(const RosyField& field, const LatticeRuns& runs, int 
     if (!best || current.betterThan(*best)) best = std::move(current);
     // Runs beyond kRunsAlongField only look for the topology, not for the vertex count.
     const bool shapeFound = best->topologyKept && best->shapeKept;
-    const bool retryStray = done && best->strayed && strayRetries < kStrayRetries;
-    if ((done && !retryStray) || run == maxRuns || (run >= kRunsAlongField && shapeFound))
+    const bool retryFlaw = done && best->flawed() && flawRetries < kFlawRetries;
+    if ((done && !retryFlaw) || run == maxRuns || (run >= kRunsAlongField && shapeFound))
       return Remeshing{std::move(*best), run, misses};
     const auto taken = [&](double next) {
       return std::any_of(triedH.begin(), triedH.end(),
                          [&](double t) { return std::abs(t - next) < 0.005 * next; });
     };
-    if (retryStray) {
+    if (retryFlaw) {
       // Towards K (fewer vertices when there are more than asked for), unless a run took that h.
-      ++strayRetries;
+      ++flawRetries;
       const double scale =
           runs.targetGiven && vertices > target ? 1.0 / kTopologyRetryScale : kTopologyRetryScale;
       h *= taken(h * scale) ? 1.0 / scale : scale;
       continue;
     }
-    double next = h * (rescale                        ? std::sqrt(vertices / target)
-                       : misses > 1 && runs.mayRefine ? kCoarseTopologyScale
-                                                      : kTopologyRetryScale);
-    // After a stray, a rescale onto an h already taken goes half-way, and again.
-    while (strayRetries > 0 && rescale && taken(next) && std::abs(next - h) > 0.01 * h)
-      next = 0.5 * (next + h);
+    const double step = rescale                        ? std::sqrt(vertices / target)
+                        : misses > 1 && runs.mayRefine ? kCoarseTopologyScale
+                                                       : kTopologyRetryScale;
+    double next = h * step;
+    // After a flaw, the runs step back and forth: a rescale onto an h already taken goes
+    // half-way (and again), a topology step one step further.
+    if (flawRetries > 0) {
+      if (rescale) {
+        while (taken(next) && std::abs(next - h) > 0.01 * h) next = 0.5 * (next + h);
+      } else {
+        while (taken(next)) next *= step;
+      }
+    }
     h = next;
   }
 }
