@@ -109,7 +109,8 @@ double farthestInputVertex(const TriMesh& input, const TriMesh& remesh) {
 /// the input spans a hole or a fold: a strip zipped across a scanned hole narrower than an edge
 /// (the Stanford bunny's base at K = 3594: 1.0 units, Hausdorff distance 2.7%; at K = 2500:
 /// 0.64 units, 1.7%). Every other remesh of the clean meshes at K = V/4 to V/64 and of the bunny
-/// at K = 2000 to 9000: at most 0.5 units.
+/// at K = 2000 to 9000: at most 0.58 units (the bunny at K = 2250, Hausdorff distance 1.67%,
+/// whose runs at h 3% off were no better).
 constexpr double kStrayCentroidInEdges = 0.6;
 /// A remesh with an angle outside [kSliverDegrees, kBluntDegrees] has a sliver well beyond the
 /// floors of 20° and 130°, which another lattice may not have. Of 185 remeshes (the clean
@@ -275,10 +276,10 @@ std::vector<std::string> remeshWarnings(const Remeshing& chosen, const RemeshOpt
 /// few edge lengths), and h then shrinks by 15% per run when h comes from a vertex count K below
 /// half the input's vertices. A remesh that keeps all that but has a triangle off the input
 /// (kStrayCentroidInEdges) or a sliver (kSliverDegrees) is redone with h 3% off, towards K, up
-/// to kFlawRetries times. The best
-/// run is kept (LatticeRun::betterThan). So a vertex count too small for the shape gives a remesh
-/// with more vertices (and a warning that says why) rather than the input copied unchanged
-/// (fertility at K = 218: 353 vertices; the input has 13,971) or without a limb.
+/// to kFlawRetries times. The best run is kept (LatticeRun::betterThan). So a vertex count too
+/// small for the shape gives a remesh with more vertices (and a warning that says why) rather
+/// than the input copied unchanged (fertility at K = 218: 353 vertices; the input has 13,971)
+/// or without a limb.
 Remeshing remeshAlongField(const RosyField& field, const LatticeRuns& runs, int maxRuns,
                            Timings& timings, LatticeRunProgress& progress) {
   constexpr double kTopologyRetryScale = 0.97;
@@ -332,7 +333,9 @@ Remeshing remeshAlongField(const RosyField& field, const LatticeRuns& runs, int 
     const bool kept = current.topologyKept && current.shapeKept;
     current.strayed =
         report.farthestCentroid > kStrayCentroidInEdges * coarsest * current.param.edgeLength;
-    current.slivered = hasSliver(current.remesh.triangles);
+    // A component copied unchanged has the input's triangles, slivers and all: no other lattice
+    // changes them.
+    current.slivered = report.componentsKept == 0 && hasSliver(current.remesh.triangles);
     const double vertices = static_cast<double>(current.remesh.triangles.n_vertices());
     if (runs.targetGiven) current.countError = std::abs(vertices - target) / target;
     // The vertices of a remesh that lost a part do not measure h for the whole input either.

@@ -334,6 +334,22 @@ TEST(PipelineRemesh, SliversAreRedoneOnAnotherLatticeOfAGeneratedScan) {
   EXPECT_LE(result.metrics.angleMax, 140.0);
 }
 
+// A scan's debris: a loose sliver triangle beside a torus is copied unchanged (too small for the
+// lattice), slivers and all. Its angles are the input's, so they do not make the run redone
+// (three runs, where one suffices, until they were told apart).
+TEST(PipelineRemesh, DoesNotRedoARunForTheSliversOfACopiedComponent) {
+  PolygonSoup soup = toPolygonSoup(makeTorus(1.0, 0.4, 96, 36));
+  const auto first = static_cast<std::uint32_t>(soup.positions.size());
+  soup.positions.emplace_back(3.0, 0.0, 0.0);
+  soup.positions.emplace_back(3.01, 0.0, 0.0);
+  soup.positions.emplace_back(3.005, 0.0001, 0.0);
+  soup.addFace(std::array<std::uint32_t, 3>{first, first + 1, first + 2});
+  const RemeshResult result = remesh(soup, quarterOf(soup.vertexCount()));
+  EXPECT_EQ(result.remesh.report.componentsKept, 1);
+  EXPECT_EQ(result.sizeIterations, 1);
+  EXPECT_LT(result.metrics.angleMin, 15.0);  // the copied sliver's
+}
+
 // A front along two nearby holes walked each hole whole; where both sides of the bridge between
 // them took the same front vertex the strip folded onto itself, and the repair joined the holes.
 // The strip cut where the front turns from one hole to the other is zipped instead: at K = 1000
