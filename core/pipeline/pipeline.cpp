@@ -290,6 +290,10 @@ Remeshing remeshAlongField(const RosyField& field, const LatticeRuns& runs, int 
   int misses = 0;
   int flawRetries = 0;
   std::vector<double> triedH;  // the h of each run
+  const auto taken = [&](double next) {
+    return std::any_of(triedH.begin(), triedH.end(),
+                       [&](double t) { return std::abs(t - next) < 0.005 * next; });
+  };
   double h = runs.edgeLength.value_or(0.0);
   // The coarsest lattice unit is h / (smallest sizing).
   const double coarsest =
@@ -331,8 +335,7 @@ Remeshing remeshAlongField(const RosyField& field, const LatticeRuns& runs, int 
       current.shapeKept = current.farthestInput <= kLostShapeInEdges * coarsest * h;
     }
     const bool kept = current.topologyKept && current.shapeKept;
-    current.strayed =
-        report.farthestCentroid > kStrayCentroidInEdges * coarsest * current.param.edgeLength;
+    current.strayed = report.farthestCentroid > kStrayCentroidInEdges * coarsest * h;
     // A component copied unchanged has the input's triangles, slivers and all: no other lattice
     // changes them. Triangles only: a quad remesh's triangles are halves of quads, whose corners
     // run to 143° (redone for them, feline's quads took 19.8 s instead of 9.8 s).
@@ -353,30 +356,23 @@ Remeshing remeshAlongField(const RosyField& field, const LatticeRuns& runs, int 
     const bool retryFlaw = done && best->flawed() && flawRetries < kFlawRetries;
     if ((done && !retryFlaw) || run == maxRuns || (run >= kRunsAlongField && shapeFound))
       return Remeshing{std::move(*best), run, misses};
-    const auto taken = [&](double next) {
-      return std::any_of(triedH.begin(), triedH.end(),
-                         [&](double t) { return std::abs(t - next) < 0.005 * next; });
-    };
-    if (retryFlaw) {
-      // Towards K (fewer vertices when there are more than asked for), unless a run took that h.
-      ++flawRetries;
-      const double scale =
-          runs.targetGiven && vertices > target ? 1.0 / kTopologyRetryScale : kTopologyRetryScale;
-      h *= taken(h * scale) ? 1.0 / scale : scale;
-      continue;
-    }
-    const double step = rescale                        ? std::sqrt(vertices / target)
+    // A flaw's step goes towards K (fewer vertices when there are more than asked for).
+    const double step = retryFlaw
+                            ? (runs.targetGiven && vertices > target ? 1.0 / kTopologyRetryScale
+                                                                     : kTopologyRetryScale)
+                        : rescale                      ? std::sqrt(vertices / target)
                         : misses > 1 && runs.mayRefine ? kCoarseTopologyScale
                                                        : kTopologyRetryScale;
     double next = h * step;
-    // After a flaw, the runs step back and forth: a rescale onto an h already taken goes
-    // half-way (and again), a topology step one step further.
-    if (flawRetries > 0) {
-      if (rescale) {
-        while (taken(next) && std::abs(next - h) > 0.01 * h) next = 0.5 * (next + h);
-      } else {
-        while (taken(next)) next *= step;
-      }
+    // After a flaw the runs step back and forth, never onto an h already taken: a flaw's step
+    // turns round, a rescale goes half-way (and again), a topology step one step further.
+    if (retryFlaw) {
+      ++flawRetries;
+      if (taken(next)) next = h / step;
+    } else if (flawRetries > 0 && rescale) {
+      while (taken(next) && std::abs(next - h) > 0.01 * h) next = 0.5 * (next + h);
+    } else if (flawRetries > 0) {
+      while (taken(next)) next *= step;
     }
     h = next;
   }

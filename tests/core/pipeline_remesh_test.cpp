@@ -54,12 +54,17 @@ TEST(PipelineRemesh, IcosphereMeetsTheQualityFloors) {
   EXPECT_TRUE(result.warnings.empty()) << result.warnings.front();
 }
 
-/// The file at `path` remeshed to `target` vertices, checked to have taken more than one run and
-/// to have come back with the input's topology and within 10% of the target.
-RemeshResult remeshRedoneToVertexCount(const std::filesystem::path& path, long long target) {
+/// The file at `path` remeshed to `target` vertices.
+RemeshResult remeshToVertexCount(const std::filesystem::path& path, long long target) {
   RemeshOptions options;
   options.targetVertices = target;
-  RemeshResult result = remesh(readMesh(path), options);
+  return remesh(readMesh(path), options);
+}
+
+/// The same, checked to have taken more than one run and to have come back with the input's
+/// topology and within 10% of the target.
+RemeshResult remeshRedoneToVertexCount(const std::filesystem::path& path, long long target) {
+  RemeshResult result = remeshToVertexCount(path, target);
   EXPECT_GT(result.sizeIterations, 1);
   EXPECT_TRUE(result.metrics.topologyMatchesReference.value_or(false))
       << "genus " << result.metrics.topology.genus() << ", "
@@ -84,9 +89,7 @@ TEST(PipelineRemesh, RedoesARemeshWhoseTopologyDiffersFromTheInput) {
 // vertices). The field is now computed again with d_sing halved, which keeps the genus.
 TEST(PipelineRemesh, RecomputesTheFieldWhenNoLatticeAlongItKeepsTheTopology) {
   HEXCOVER_SHARED_MESH_OR_SKIP(path, "clean/feline.off");
-  RemeshOptions options;
-  options.targetVertices = 1000;
-  const RemeshResult result = remesh(readMesh(path), options);
+  const RemeshResult result = remeshToVertexCount(path, 1000);
   EXPECT_EQ(result.remesh.report.componentsKept, 0);
   EXPECT_EQ(result.metrics.topology.genus(), 2);
   EXPECT_LT(result.remesh.triangles.n_vertices(), 3000u);
@@ -129,9 +132,7 @@ TEST(PipelineRemesh, RedoesARunWhoseComponentWasCopiedForItsTopology) {
 // K = 1130 the lattice touches itself there too, and its run has none.)
 TEST(PipelineRemesh, KeepsTwoHolesApartWhereTheLatticeTouchesItselfBetweenThem) {
   HEXCOVER_SHARED_MESH_OR_SKIP(path, "clean/stanford-bunny.obj");
-  RemeshOptions options;
-  options.targetVertices = 1130;
-  const RemeshResult result = remesh(readMesh(path), options);
+  const RemeshResult result = remeshToVertexCount(path, 1130);
   EXPECT_GT(result.remesh.report.pinchedFanTriangles, 0);
   EXPECT_EQ(result.sizeIterations, 1);
   EXPECT_EQ(result.remesh.report.componentsKept, 0);

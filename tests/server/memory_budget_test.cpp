@@ -139,36 +139,42 @@ TEST(MemoryBudget, ASmallJobStartsWhileALargeOneWaits) {
   EXPECT_EQ(budget.reservedMiB(), 100.0);
 }
 
+/// A budget of 100 MiB of which two running jobs hold 50 and 40 MiB (reset() one to end it).
+struct TwoRunningJobs {
+  TwoRunningJobs() {
+    first->raise(50.0, kNoStop);
+    second->raise(40.0, kNoStop);
+  }
+  MemoryBudget budget{100.0};
+  std::optional<MemoryBudget::Share> first{std::in_place, budget}, second{std::in_place, budget};
+};
+
 // Without the set-aside, the 50 MiB that the first job frees would let a 20 MiB job in beside the
 // other 40, and a stream of such jobs would keep the 70 MiB one waiting for ever.
 TEST(MemoryBudget, MemoryFreedWhileAJobWaitsIsSetAsideForIt) {
-  MemoryBudget budget(100.0);
-  std::optional<MemoryBudget::Share> first(std::in_place, budget), second(std::in_place, budget);
-  first->raise(50.0, kNoStop);
-  second->raise(40.0, kNoStop);
+  TwoRunningJobs running;
+  MemoryBudget& budget = running.budget;
   HoldingJob large(budget, 70.0);
   ASSERT_TRUE(large.waits());
-  first.reset();  // 50 MiB free, set aside for the large job, which needs 20 more
+  running.first.reset();  // 50 MiB free, set aside for the large job, which needs 20 more
   HoldingJob small(budget, 20.0);
   ASSERT_TRUE(small.waits()) << "only 10 MiB are free and not set aside";
   EXPECT_FALSE(large.granted());
   EXPECT_EQ(budget.reservedMiB(), 40.0);
-  second.reset();
+  running.second.reset();
   EXPECT_TRUE(grantedSoon(large));
   EXPECT_TRUE(grantedSoon(small)) << "the other 20 MiB of the second job's";
   EXPECT_EQ(budget.reservedMiB(), 90.0);
 }
 
 TEST(MemoryBudget, AJobThatStopsWaitingPassesWhatWasSetAsideForItOn) {
-  MemoryBudget budget(100.0);
-  std::optional<MemoryBudget::Share> first(std::in_place, budget), second(std::in_place, budget);
-  first->raise(50.0, kNoStop);
-  second->raise(40.0, kNoStop);
+  TwoRunningJobs running;
+  MemoryBudget& budget = running.budget;
   HoldingJob oldest(budget, 70.0);
   ASSERT_TRUE(oldest.waits());
   HoldingJob next(budget, 60.0);
   ASSERT_TRUE(next.waits());
-  first.reset();  // the oldest waiter's 50 MiB
+  running.first.reset();  // the oldest waiter's 50 MiB
   oldest.cancel();
   oldest.join();
   EXPECT_FALSE(oldest.granted());
