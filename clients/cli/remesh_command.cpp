@@ -89,6 +89,7 @@ nlohmann::json metricsDocument(const RemeshResult& result) {
                         {"boundary_samples", r.boundarySamples},
                         {"strip_triangles", r.stripTriangles},
                         {"strip_flips", r.stripFlips},
+                        {"strip_splits", r.stripSplits},
                         {"boundary_slides", r.boundarySlides},
                         {"flipped_param_triangles", r.flippedParamTriangles},
                         {"uncovered_triangles", r.uncoveredTriangles},

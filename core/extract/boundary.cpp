@@ -368,10 +368,12 @@ Eigen::Vector3d areaNormal(const std::vector<Eigen::Vector3d>& p, const Triangle
 
 int improveByFlips(const std::vector<Eigen::Vector3d>& positions,
                    const std::vector<Triangle>& others, std::vector<Triangle>& region) {
-  std::unordered_set<std::uint64_t> edges;
+  // Triangles per undirected edge: only an edge of exactly two triangles, both in the region,
+  // is flipped (one in more, a fold the repair mends later, stays as it is).
+  std::unordered_map<std::uint64_t, int> edges;
   for (const std::vector<Triangle>* set : {&others, static_cast<const std::vector<Triangle>*>(&region)})
     for (const auto& t : *set)
-      for (int k = 0; k < 3; ++k) edges.insert(undirectedKey(t[k], t[(k + 1) % 3]));
+      for (int k = 0; k < 3; ++k) ++edges[undirectedKey(t[k], t[(k + 1) % 3])];
   int flips = 0;
   constexpr int kMaxPasses = 20;
   for (int pass = 0; pass < kMaxPasses; ++pass) {
@@ -390,11 +392,11 @@ int improveByFlips(const std::vector<Eigen::Vector3d>& positions,
         if (it == directed.end() || touched[it->second.first] || it->second.first == i) continue;
         const int j = it->second.first;
         const int d = region[j][(it->second.second + 2) % 3];  // region[j] = (b, a, d)
-        if (c == d || edges.count(undirectedKey(c, d))) continue;
+        if (c == d || edges[undirectedKey(a, b)] != 2 || edges.count(undirectedKey(c, d))) continue;
         if (!flipRaisesSmallestAngle(positions[a], positions[b], positions[c], positions[d]))
           continue;
         edges.erase(undirectedKey(a, b));
-        edges.insert(undirectedKey(c, d));
+        edges[undirectedKey(c, d)] = 2;
         region[i] = {a, d, c};
         region[j] = {d, b, c};
         touched[i] = touched[j] = true;

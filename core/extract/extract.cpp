@@ -105,13 +105,17 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
   std::vector<Eigen::Vector3d> unfitted;  // N = 4: vertex positions before the fit
   std::vector<int> partner;               // N = 4: squarePartners
   std::vector<char> copied;  // per vertex of result.triangles: of a component copied (step 6)
-  std::optional<ClosestPointQuery> inputQuery;  // built for the fit, also read by the quad steps
+  // For the fit, the strips' new vertices and the quad steps; the report's farthest centroid.
+  std::optional<ClosestPointQuery> inputQuery;
+  if (options.fitToSurface) inputQuery.emplace(mesh);
   {
     ScopedTimer timer(report.timings, "repair and boundary");
     context.report(stage::kExtraction, 0.7);
     context.throwIfCanceled();
     dropDegenerateAndOverlapping(out.triangles, report);
-    if (componentCount > 0) closeBoundaries(mesh, faceComponent, options, out, report);
+    if (componentCount > 0)
+      closeBoundaries(mesh, inputQuery ? &*inputQuery : nullptr, faceComponent, options, out,
+                      report);
     repairNonManifold(out, report);
     // Two copies of one lattice point merge into a cone of the triangle lattice (valence 4).
     if (!quads) report.latticePointCopiesMerged = collapseLatticePointCopies(out);
@@ -138,8 +142,7 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     ScopedTimer timer(report.timings, "surface fit");
     context.report(stage::kExtraction, 0.8);
     context.throwIfCanceled();
-    if (options.fitToSurface && result.triangles.n_faces() > 0) {
-      inputQuery.emplace(mesh);
+    if (inputQuery && result.triangles.n_faces() > 0) {
       if (quads)
         for (const auto v : result.triangles.vertices())
           unfitted.push_back(toEigen(result.triangles.point(v)));
@@ -188,7 +191,8 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     report.mergedTrianglePairs += pairTriangles(result.triangles, partner);
     result.quads = pairSquares(result.triangles, partner);
   }
-  if (inputQuery) report.farthestCentroid = farthestCentroid(result.triangles, *inputQuery);
+  if (inputQuery && !onlyCopies)
+    report.farthestCentroid = farthestCentroid(result.triangles, *inputQuery);
   if (!quads) {
     ScopedTimer timer(report.timings, "hexagonal dual");
     context.report(stage::kExtraction, 0.9);

@@ -39,7 +39,10 @@
 //    (triangles) the chord between the samples around it would cut it off by more than half a
 //    spacing (its front vertex then has valence 7). For squares (N = 4) a front vertex with a
 //    polygon edges gets 5 − a samples, and along straight stretches of the front the strip is a row
-//    of squares (valence 4 at the front).
+//    of squares (valence 4 at the front). A front along several loops is zipped to their samples;
+//    where the lattice keeps away from holes closer together than it, that strip is several edge
+//    lengths wide, and its edges longer than 1.75 spacings are split at their midpoints (on the
+//    input) before the strip's min-angle flips, so that it has interior vertices.
 // 6. Components of the input whose remesh has fewer triangles than one hexagon (6), or not the
 //    component's topology (Euler characteristic, boundary loops, one piece), are copied
 //    unchanged (as given, before any refinement): steps 7 and 8 leave their vertices and
@@ -123,6 +126,7 @@ struct ExtractionReport {
   long long boundarySamples = 0;      ///< vertices placed on the input boundary
   long long stripTriangles = 0;       ///< triangles between the lattice front and the boundary
   long long stripFlips = 0;           ///< edge flips among strip and fill triangles (min angle)
+  long long stripSplits = 0;          ///< long strip and fill edges split at their midpoints
   long long boundarySlides = 0;       ///< boundary samples slid along the input boundary
   long long flippedParamTriangles = 0;     ///< parameter triangles with negative orientation
   long long degenerateParamTriangles = 0;  ///< parameter triangles with zero area

@@ -7,6 +7,7 @@
 
 #include "core/extract/assembly.h"
 #include "core/extract/extract.h"
+#include "core/geometry/closest_point.h"
 #include "core/mesh/mesh.h"
 
 namespace hexcover::extract_detail {
@@ -14,8 +15,10 @@ namespace hexcover::extract_detail {
 /// Resolves every boundary loop of the lattice triangles in `out`: a front along an input
 /// boundary loop of `mesh` is stitched to that loop's samples (BoundaryMode::Follow) or left
 /// (Lattice); any other loop is a coverage gap and is filled. `faceComponent`: the input's
-/// component of each face.
-void closeBoundaries(const TriMesh& mesh, const std::vector<int>& faceComponent,
-                     const ExtractOptions& options, Assembly& out, ExtractionReport& report);
+/// component of each face. `input` (a closest-point query on `mesh`, or null) puts the vertices
+/// that split the strips' long edges onto the input.
+void closeBoundaries(const TriMesh& mesh, const ClosestPointQuery* input,
+                     const std::vector<int>& faceComponent, const ExtractOptions& options,
+                     Assembly& out, ExtractionReport& report);
 
 }  // namespace hexcover::extract_detail

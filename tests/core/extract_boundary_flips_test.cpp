@@ -178,6 +178,20 @@ TEST(BoundaryFlips, NeverCreatesAnEdgeThatExistsElsewhereOrTouchesOtherTriangles
   EXPECT_EQ(region[0], (Triangle{0, 1, 2}));
 }
 
+// A fold: a third triangle on the rhombus's long diagonal 0-2 (the strip folded onto itself, as
+// where a zip reuses an edge). Flipping the diagonal under it would leave the third triangle's
+// edge with no neighbour and join vertex 2's two fans at one vertex; the repair mends folds.
+TEST(BoundaryFlips, LeavesAnEdgeOfAFoldAsItIs) {
+  std::vector<Eigen::Vector3d> points = kRhombus;
+  points.push_back({1, 0, 1});
+  std::vector<Triangle> region = {{0, 1, 2}, {0, 2, 3}, {2, 0, 4}};
+  EXPECT_EQ(improveByFlips(points, {}, region), 0);
+  // The same fold made of a lattice triangle.
+  region.pop_back();
+  EXPECT_EQ(improveByFlips(points, {{2, 0, 4}}, region), 0);
+  EXPECT_EQ(improveByFlips(points, {}, region), 1) << "without the fold, the diagonal flips";
+}
+
 TEST(BoundaryFlips, NeverTurnsATriangleOver) {
   // A non-convex quad a-d-b-c: the other diagonal would raise the smallest angle (2.3° -> 7°)
   // but leave triangle d-b-c facing down.
