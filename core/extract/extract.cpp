@@ -105,17 +105,18 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
   std::vector<Eigen::Vector3d> unfitted;  // N = 4: vertex positions before the fit
   std::vector<int> partner;               // N = 4: squarePartners
   std::vector<char> copied;  // per vertex of result.triangles: of a component copied (step 6)
-  // For the fit, the strips' new vertices and the quad steps; the report's farthest centroid.
+  // Closest points on the input, built when first needed (a strip's split, the fit; then the quad
+  // steps and the report's farthest centroid): built before the boundary step, it took the
+  // 1.1M-face bunny's peak from 3361 to 4285 MiB.
   std::optional<ClosestPointQuery> inputQuery;
-  if (options.fitToSurface) inputQuery.emplace(mesh);
   {
     ScopedTimer timer(report.timings, "repair and boundary");
     context.report(stage::kExtraction, 0.7);
     context.throwIfCanceled();
     dropDegenerateAndOverlapping(out.triangles, report);
     if (componentCount > 0)
-      closeBoundaries(mesh, inputQuery ? &*inputQuery : nullptr, faceComponent, options, out,
-                      report);
+      closeBoundaries(mesh, options.fitToSurface ? &inputQuery : nullptr, faceComponent, options,
+                      out, report);
     repairNonManifold(out, report);
     // Two copies of one lattice point merge into a cone of the triangle lattice (valence 4).
     if (!quads) report.latticePointCopiesMerged = collapseLatticePointCopies(out);
@@ -142,7 +143,8 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     ScopedTimer timer(report.timings, "surface fit");
     context.report(stage::kExtraction, 0.8);
     context.throwIfCanceled();
-    if (inputQuery && result.triangles.n_faces() > 0) {
+    if (options.fitToSurface && result.triangles.n_faces() > 0) {
+      if (!inputQuery) inputQuery.emplace(mesh);
       if (quads)
         for (const auto v : result.triangles.vertices())
           unfitted.push_back(toEigen(result.triangles.point(v)));

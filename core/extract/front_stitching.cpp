@@ -530,22 +530,29 @@ void stitchFront(const BoundaryIndex& index, const std::vector<int>& inputLoopCo
   added.insert(added.end(), chosen.begin(), chosen.end());
 }
 
-/// A strip or fill edge longer than this many local spacings is split (splitLongEdges), unless
-/// the input is farther than kSplitLeavingInput edge lengths from its midpoint: the edge passes
-/// over a hole (the Stanford bunny's base at K = 2500: splits 0.2-0.4 edge lengths off the flat
-/// base raised the Hausdorff distance from 0.89 to 1.52%), where a curve bends no more than an
-/// arc of a circle whose radius is the edge's length (its sagitta: 0.134 edge lengths).
+/// A strip or fill edge longer than this many local spacings is split (splitLongEdges).
 constexpr double kSplitEdgeInSpacings = 1.75;
+/// Not when the input is farther than this many edge lengths from its midpoint: the edge passes
+/// over a hole (the Stanford bunny's base at K = 2500: splits 0.2-0.4 edge lengths off the flat
+/// base raised the Hausdorff distance from 0.89 to 1.52%). A curve that bends no more than an
+/// arc of a circle whose radius is the edge's length stays within its sagitta, 0.134 edge lengths.
 constexpr double kSplitLeavingInput = 0.125;
-/// Nor one whose midpoint is within this many edge lengths of an apex of its triangles.
+/// Nor when the midpoint is within this many edge lengths of an apex of its two triangles.
 constexpr double kSplitApexClearance = 0.01;
 
-/// The vertices of folds among `triangles`: of an edge in more than two of them, or of a
-/// directed edge in two.
-std::vector<bool> foldVertices(const std::vector<Triangle>& triangles, std::size_t vertexCount) {
+/// The vertices of folds at `region` (it and `others` together): the ends of an edge in more
+/// than two triangles, or of a directed edge in two. Only the edges at the region's vertices
+/// are counted (the lattice elsewhere does not matter).
+std::vector<bool> foldVertices(const std::vector<Triangle>& region,
+                               const std::vector<Triangle>& others, std::size_t vertexCount) {
+  std::vector<bool> inRegion(vertexCount, false);
+  for (const auto& t : region)
+    for (const int v : t) inRegion[v] = true;
   std::map<std::pair<int, int>, int> directed;
-  for (const auto& t : triangles)
-    for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+  for (const std::vector<Triangle>* set : {&region, &others})
+    for (const auto& t : *set)
+      for (int k = 0; k < 3; ++k)
+        if (inRegion[t[k]] || inRegion[t[(k + 1) % 3]]) ++directed[{t[k], t[(k + 1) % 3]}];
   std::vector<bool> fold(vertexCount, false);
   for (const auto& [edge, count] : directed) {
     const auto opposite = directed.find({edge.second, edge.first});
@@ -557,19 +564,19 @@ std::vector<bool> foldVertices(const std::vector<Triangle>& triangles, std::size
 
 /// Splits the edges between two `region` triangles longer than kSplitEdgeInSpacings spacings
 /// (`spacing` per vertex, `typical` for vertices without one), longest first: a new vertex at
-/// the edge's midpoint, moved onto the input by `input` (when given), halves both triangles.
+/// the edge's midpoint, moved onto the input (`input`, built on the first split; not when null),
+/// halves both triangles.
 /// Where input holes sit closer together than the lattice, the strip between them is several
 /// edge lengths wide, and the zip joins a hole's short edge to a front vertex far away (a
 /// sphere with 40 holes of half an edge across: a 3.4° sliver at K = 850); split, the strip gets
 /// interior vertices that the flips and the surface fit's relaxation shape. Triangles at a fold
 /// (`others` and `region` together: an edge in more than two triangles) stay for the repair.
 /// Returns the number of splits.
-long long splitLongEdges(const ClosestPointQuery* input, const std::vector<double>& spacing,
-                         double typical, const std::vector<Triangle>& others, Assembly& out,
+long long splitLongEdges(const TriMesh& mesh, std::optional<ClosestPointQuery>* input,
+                         const std::vector<double>& spacing, double typical,
+                         const std::vector<Triangle>& others, Assembly& out,
                          std::vector<Triangle>& region) {
-  std::vector<Triangle> all = others;
-  all.insert(all.end(), region.begin(), region.end());
-  const std::vector<bool> fold = foldVertices(all, out.positions.size());
+  const std::vector<bool> fold = foldVertices(region, others, out.positions.size());
   const auto limit = [&](int a, int b) {
     const auto local = [&](int v) {
       return v < static_cast<int>(spacing.size()) && spacing[v] > 0.0 ? spacing[v] : typical;
@@ -609,7 +616,8 @@ long long splitLongEdges(const ClosestPointQuery* input, const std::vector<doubl
     const int c = apex(i, a, b), d = apex(j, a, b);
     if (c == d || atFold(a) || atFold(b) || atFold(c) || atFold(d)) continue;
     const Eigen::Vector3d midpoint = 0.5 * (out.positions[a] + out.positions[b]);
-    const Eigen::Vector3d onInput = input ? input->closest(midpoint).point : midpoint;
+    if (input && !*input) input->emplace(mesh);
+    const Eigen::Vector3d onInput = input ? (*input)->closest(midpoint).point : midpoint;
     if ((onInput - midpoint).norm() > kSplitLeavingInput * length(a, b)) continue;
     // A flat triangle with its apex on the midpoint: halves of it would be degenerate.
     if (std::min((out.positions[c] - onInput).norm(), (out.positions[d] - onInput).norm()) <
@@ -631,7 +639,7 @@ long long splitLongEdges(const ClosestPointQuery* input, const std::vector<doubl
 
 }  // namespace
 
-void closeBoundaries(const TriMesh& mesh, const ClosestPointQuery* input,
+void closeBoundaries(const TriMesh& mesh, std::optional<ClosestPointQuery>* input,
                      const std::vector<int>& faceComponent, const ExtractOptions& options,
                      Assembly& out, ExtractionReport& report) {
   std::vector<std::vector<Eigen::Vector3d>> inputLoops;
@@ -730,7 +738,7 @@ void closeBoundaries(const TriMesh& mesh, const ClosestPointQuery* input,
       slideBoundarySamples(index, loopSamples, strips(), out.positions, out.squares);
   out.triangles.insert(out.triangles.end(), regular.begin(), regular.end());
   report.stripFlips += improveByFlips(out.positions, out.triangles, added);
-  report.stripSplits += splitLongEdges(input, h, typical, out.triangles, out, added);
+  report.stripSplits += splitLongEdges(mesh, input, h, typical, out.triangles, out, added);
   report.stripFlips += improveByFlips(out.positions, out.triangles, added);
   report.boundarySlides +=
       slideBoundarySamples(index, loopSamples, strips(), out.positions, out.squares);
