@@ -51,6 +51,13 @@ int printUsage(std::ostream& out) {
   return 2;
 }
 
+/// Whether the subcommand's arguments ask for its usage (--help or -h anywhere among them).
+bool asksForHelp(int argc, char** argv) {
+  for (int k = 2; k < argc; ++k)
+    if (std::strcmp(argv[k], "--help") == 0 || std::strcmp(argv[k], "-h") == 0) return true;
+  return false;
+}
+
 }  // namespace
 }  // namespace hexcover::cli
 
@@ -65,6 +72,10 @@ int main(int argc, char** argv) {
   }
   for (const auto& sub : kSubcommands) {
     if (sub.name != name) continue;
+    if (asksForHelp(argc, argv)) {
+      std::cout << "usage: hexcover " << sub.synopsis << "\n";
+      return 0;
+    }
     try {
       return sub.run(argc, argv);
     } catch (const UsageError& e) {

@@ -110,6 +110,22 @@ TEST_F(CliTest, InfoOnABrokenFileExitsWithStatusOneAndOneLine) {
   EXPECT_EQ(hexcover("info").status, 2);  // usage
 }
 
+// `hexcover <command> --help` (or -h) prints that command's usage to stdout and succeeds,
+// whatever else is on the line (it was an unknown option: status 2).
+TEST_F(CliTest, EveryCommandPrintsItsUsageForHelp) {
+  for (const std::string command : {"info", "convert", "metrics", "remesh", "field", "param"}) {
+    for (const std::string help : {"--help", "-h"}) {
+      const CommandResult run = hexcover(command + " " + help);
+      EXPECT_EQ(run.status, 0) << command << " " << help << ": " << run.err;
+      EXPECT_EQ(run.out.rfind("usage: hexcover " + command, 0), 0u) << run.out;
+      EXPECT_TRUE(run.err.empty()) << run.err;
+    }
+  }
+  const CommandResult late = hexcover("remesh in.obj -o out.obj --help");
+  EXPECT_EQ(late.status, 0) << late.err;
+  EXPECT_NE(late.out.find("--vertices K"), std::string::npos) << late.out;
+}
+
 TEST_F(CliTest, ConvertWritesTheFormatOfTheOutputExtension) {
   const auto obj = dir_ / "sphere.obj", ply = dir_ / "sphere.ply", stl = dir_ / "sphere.stl";
   const PolygonSoup sphere = toPolygonSoup(makeIcosphere(2));
