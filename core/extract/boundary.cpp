@@ -392,7 +392,8 @@ int improveByFlips(const std::vector<Eigen::Vector3d>& positions,
         if (it == directed.end() || touched[it->second.first] || it->second.first == i) continue;
         const int j = it->second.first;
         const int d = region[j][(it->second.second + 2) % 3];  // region[j] = (b, a, d)
-        if (c == d || edges[undirectedKey(a, b)] != 2 || edges.count(undirectedKey(c, d))) continue;
+        if (c == d || edges.at(undirectedKey(a, b)) != 2 || edges.count(undirectedKey(c, d)))
+          continue;
         if (!flipRaisesSmallestAngle(positions[a], positions[b], positions[c], positions[d]))
           continue;
         edges.erase(undirectedKey(a, b));

@@ -595,8 +595,8 @@ long long splitLongEdges(const TriMesh& mesh, std::optional<ClosestPointQuery>* 
   std::priority_queue<std::tuple<double, int, int>> queue;
   const auto consider = [&](int a, int b) {
     if (a > b) std::swap(a, b);
-    if (triangleOf.count({a, b}) && triangleOf.count({b, a}) && length(a, b) > limit(a, b))
-      queue.emplace(length(a, b), a, b);
+    if (!triangleOf.count({a, b}) || !triangleOf.count({b, a})) return;
+    if (const double l = length(a, b); l > limit(a, b)) queue.emplace(l, a, b);
   };
   for (const auto& [edge, triangle] : triangleOf) consider(edge.first, edge.second);
   const auto apex = [&](int i, int a, int b) {
