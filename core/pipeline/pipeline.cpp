@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <iomanip>
+#include <memory>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -207,7 +208,7 @@ class LatticeRunProgress {
   int started_ = 0;
 };
 
-/// Runs along one field (remeshAlongField), unless its lattices keep missing the topology.
+/// Runs along one field (RunsAlongField), unless its lattices keep missing the topology.
 constexpr int kRunsAlongField = 4;
 
 /// A direction field with the options it was computed with.
@@ -216,16 +217,21 @@ struct SolvedField {
   FieldOptions options;
 };
 
-/// The best run along one field, with the runs it took.
-struct Remeshing {
-  LatticeRun best;
-  int runs = 0;
-  int misses = 0;  ///< runs that did not keep the input's topology or shape
-};
+/// Whether two fields give the same parameterizations: the same directions, matchings, creases
+/// and singularities (all that computeParameterization reads of a field).
+bool sameForLattice(const RosyField& a, const RosyField& b) {
+  const auto sameSingularity = [](const Singularity& s, const Singularity& t) {
+    return s.vertex == t.vertex && s.index == t.index && s.onBoundary == t.onBoundary;
+  };
+  return a.n == b.n && a.faceDirection == b.faceDirection && a.edgeMatching == b.edgeMatching &&
+         a.sharpEdges == b.sharpEdges &&
+         std::equal(a.singularities.begin(), a.singularities.end(), b.singularities.begin(),
+                    b.singularities.end(), sameSingularity);
+}
 
 /// The result's warnings (RemeshResult::warnings) about the remesh `chosen`.
-std::vector<std::string> remeshWarnings(const Remeshing& chosen, const RemeshOptions& options) {
-  const LatticeRun& run = chosen.best;
+std::vector<std::string> remeshWarnings(const LatticeRun& run, int misses,
+                                        const RemeshOptions& options) {
   const double h = run.param.edgeLength;
   std::vector<std::string> warnings;
   const long long copied = run.remesh.report.componentsKept;
@@ -255,8 +261,7 @@ std::vector<std::string> remeshWarnings(const Remeshing& chosen, const RemeshOpt
   }
   if (options.targetVertices && run.countError > kCountPromise) {
     const auto vertices = static_cast<long long>(run.remesh.triangles.n_vertices());
-    const bool moreForShape =
-        chosen.misses > 0 && copied == 0 && vertices > *options.targetVertices;
+    const bool moreForShape = misses > 0 && copied == 0 && vertices > *options.targetVertices;
     warnings.push_back("the remesh has " + std::to_string(vertices) +
                        " vertices, more than 10% away from the " +
                        std::to_string(*options.targetVertices) + " asked for" +
@@ -267,7 +272,7 @@ std::vector<std::string> remeshWarnings(const Remeshing& chosen, const RemeshOpt
   return warnings;
 }
 
-/// Parameterization and extraction along `field`, at most `maxRuns` times. With a target vertex
+/// Parameterization and extraction along a field, run by run (runUpTo). With a target vertex
 /// count, h is rescaled by sqrt(V / K) until the remesh is within 8% of K (the promise is 10%). A
 /// remesh whose topology differs from the repaired input's (fold-overs that neither the
 /// parameterization nor the extraction's repair removed), or that lost a part of the input
@@ -280,26 +285,60 @@ std::vector<std::string> remeshWarnings(const Remeshing& chosen, const RemeshOpt
 /// small for the shape gives a remesh with more vertices (and a warning that says why) rather
 /// than the input copied unchanged (fertility at K = 218: 353 vertices; the input has 13,971)
 /// or without a limb.
-Remeshing remeshAlongField(const RosyField& field, const LatticeRuns& runs, int maxRuns,
-                           Timings& timings, LatticeRunProgress& progress) {
+/// The runs can go on later (runUpTo a larger count): a field computed again that comes out the
+/// same (sameForLattice) takes the next runs along this one instead of repeating these.
+class RunsAlongField {
+ public:
+  RunsAlongField(SolvedField solved, const LatticeRuns& runs, Timings& timings,
+                 LatticeRunProgress& progress)
+      : solved_(std::move(solved)),
+        runs_(runs),
+        timings_(timings),
+        progress_(progress),
+        h_(runs.edgeLength.value_or(0.0)) {}
+
+  /// Goes on until a run is done (kept, or good enough after kRunsAlongField runs), or until
+  /// `maxRuns` runs along the field in all.
+  void runUpTo(int maxRuns);
+
+  const SolvedField& solved() const { return solved_; }
+  /// The best run so far; runUpTo has made one at least.
+  const LatticeRun& best() const { return *best_; }
+  LatticeRun& best() { return *best_; }
+  int runsMade() const { return runCount_; }
+  int misses() const { return misses_; }  ///< runs that did not keep the input's topology or shape
+
+ private:
+  SolvedField solved_;
+  const LatticeRuns& runs_;
+  Timings& timings_;
+  LatticeRunProgress& progress_;
+  std::optional<LatticeRun> best_;
+  int runCount_ = 0;
+  int misses_ = 0;
+  int flawRetries_ = 0;
+  std::vector<double> triedH_;  ///< the h of each run
+  double h_;                    ///< of the next run (0: derived from K)
+  bool finished_ = false;
+};
+
+void RunsAlongField::runUpTo(int maxRuns) {
   constexpr double kTopologyRetryScale = 0.97;
   constexpr double kCoarseTopologyScale = 0.85;
   using Clock = std::chrono::steady_clock;
+  const LatticeRuns& runs = runs_;
+  const RosyField& field = solved_.field;
   const auto target = static_cast<double>(runs.target);
-  std::optional<LatticeRun> best;
-  int misses = 0;
-  int flawRetries = 0;
-  std::vector<double> triedH;  // the h of each run
   const auto taken = [&](double next) {
-    return std::any_of(triedH.begin(), triedH.end(),
+    return std::any_of(triedH_.begin(), triedH_.end(),
                        [&](double t) { return std::abs(t - next) < 0.005 * next; });
   };
-  double h = runs.edgeLength.value_or(0.0);
   // The coarsest lattice unit is h / (smallest sizing).
   const double coarsest =
       runs.sizing.empty() ? 1.0 : 1.0 / *std::min_element(runs.sizing.begin(), runs.sizing.end());
-  for (int run = 1;; ++run) {
-    const RunContext context = progress.next();
+  while (!finished_ && runCount_ < maxRuns) {
+    const int run = ++runCount_;
+    const RunContext context = progress_.next();
     auto start = Clock::now();
     ParamOptions paramOptions;
     // The first run without an edge length derives h from the target (the parameterization
@@ -307,19 +346,19 @@ Remeshing remeshAlongField(const RosyField& field, const LatticeRuns& runs, int 
     if (run == 1 && !runs.edgeLength)
       paramOptions.targetVertices = static_cast<int>(runs.target);
     else
-      paramOptions.edgeLength = h;
+      paramOptions.edgeLength = h_;
     paramOptions.vertexSizing = runs.sizing;
     LatticeRun current;
     current.param = computeParameterization(runs.mesh, field, paramOptions, context);
-    h = current.param.edgeLength;
-    triedH.push_back(h);
-    addTiming(timings, stage::kParameterization, secondsSince(start));
+    h_ = current.param.edgeLength;
+    triedH_.push_back(h_);
+    addTiming(timings_, stage::kParameterization, secondsSince(start));
     context.throwIfCanceled();
 
     start = Clock::now();
     current.remesh =
         extractRemesh(runs.mesh, current.param, runs.extractOptions, context, runs.given);
-    addTiming(timings, stage::kExtraction, secondsSince(start));
+    addTiming(timings_, stage::kExtraction, secondsSince(start));
     // A component copied because its lattice triangles had another topology counts as a
     // topology miss, and so does, when the lattice may be refined, a remesh that is the input
     // copied whole (no component took the lattice): their vertices do not measure h, and the
@@ -332,10 +371,10 @@ Remeshing remeshAlongField(const RosyField& field, const LatticeRuns& runs, int 
         !latticeTooCoarse && computeTopology(current.remesh.triangles).sameAs(runs.inputTopology);
     if (current.topologyKept) {
       current.farthestInput = farthestInputVertex(runs.mesh, current.remesh.triangles);
-      current.shapeKept = current.farthestInput <= kLostShapeInEdges * coarsest * h;
+      current.shapeKept = current.farthestInput <= kLostShapeInEdges * coarsest * h_;
     }
     const bool kept = current.topologyKept && current.shapeKept;
-    current.strayed = report.farthestCentroid > kStrayCentroidInEdges * coarsest * h;
+    current.strayed = report.farthestCentroid > kStrayCentroidInEdges * coarsest * h_;
     // A component copied unchanged has the input's triangles, slivers and all: no other lattice
     // changes them. Triangles only: a quad remesh's triangles are halves of quads, whose corners
     // run to 143° (redone for them, feline's quads took 19.8 s instead of 9.8 s).
@@ -345,36 +384,36 @@ Remeshing remeshAlongField(const RosyField& field, const LatticeRuns& runs, int 
     if (runs.targetGiven) current.countError = std::abs(vertices - target) / target;
     // The vertices of a remesh that lost a part do not measure h for the whole input either.
     // A run after a flaw keeps its h within the promise: a rescale would take it back.
-    const double tolerance = flawRetries > 0 ? kCountPromise : kCountTolerance;
+    const double tolerance = flawRetries_ > 0 ? kCountPromise : kCountTolerance;
     const bool rescale =
         current.countError > tolerance && vertices > 0.0 && !latticeTooCoarse && current.shapeKept;
     const bool done = kept && !rescale;
-    misses += kept ? 0 : 1;
-    if (!best || current.betterThan(*best)) best = std::move(current);
+    misses_ += kept ? 0 : 1;
+    if (!best_ || current.betterThan(*best_)) best_ = std::move(current);
     // Runs beyond kRunsAlongField only look for the topology, not for the vertex count.
-    const bool shapeFound = best->topologyKept && best->shapeKept;
-    const bool retryFlaw = done && best->flawed() && flawRetries < kFlawRetries;
-    if ((done && !retryFlaw) || run == maxRuns || (run >= kRunsAlongField && shapeFound))
-      return Remeshing{std::move(*best), run, misses};
+    const bool shapeFound = best_->topologyKept && best_->shapeKept;
+    const bool retryFlaw = done && best_->flawed() && flawRetries_ < kFlawRetries;
+    finished_ = (done && !retryFlaw) || (run >= kRunsAlongField && shapeFound);
+    if (finished_) return;
     // A flaw's step goes towards K (fewer vertices when there are more than asked for).
     const double step = retryFlaw
                             ? (runs.targetGiven && vertices > target ? 1.0 / kTopologyRetryScale
                                                                      : kTopologyRetryScale)
-                        : rescale                      ? std::sqrt(vertices / target)
-                        : misses > 1 && runs.mayRefine ? kCoarseTopologyScale
-                                                       : kTopologyRetryScale;
-    double next = h * step;
+                        : rescale                       ? std::sqrt(vertices / target)
+                        : misses_ > 1 && runs.mayRefine ? kCoarseTopologyScale
+                                                        : kTopologyRetryScale;
+    double next = h_ * step;
     // After a flaw the runs step back and forth, never onto an h already taken: a flaw's step
     // turns round, a rescale goes half-way (and again), a topology step one step further.
     if (retryFlaw) {
-      ++flawRetries;
-      if (taken(next)) next = h / step;
-    } else if (flawRetries > 0 && rescale) {
-      while (taken(next) && std::abs(next - h) > 0.01 * h) next = 0.5 * (next + h);
-    } else if (flawRetries > 0) {
+      ++flawRetries_;
+      if (taken(next)) next = h_ / step;
+    } else if (flawRetries_ > 0 && rescale) {
+      while (taken(next) && std::abs(next - h_) > 0.01 * h_) next = 0.5 * (next + h_);
+    } else if (flawRetries_ > 0) {
       while (taken(next)) next *= step;
     }
-    h = next;
+    h_ = next;
   }
 }
 
@@ -505,7 +544,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   }
   context.throwIfCanceled();
 
-  // 3 and 4. Parameterization and extraction (see remeshAlongField).
+  // 3 and 4. Parameterization and extraction (see RunsAlongField).
   const MeshTopology inputTopology = computeTopology(mesh);
   ExtractOptions extractOptions;
   extractOptions.balanceDeviation = options.placement == VertexPlacement::Balanced;
@@ -520,9 +559,15 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
                          options.edgeLength,
                          !options.edgeLength && 2 * target < inputVertices};
   LatticeRunProgress runProgress(context);
-  Remeshing chosen =
-      remeshAlongField(solved.field, runs, kRunsAlongField, result.timings, runProgress);
-  result.sizeIterations = chosen.runs;
+  // Every field remeshed, with its runs; `chosen` is the one whose best run is kept.
+  std::vector<std::unique_ptr<RunsAlongField>> fields;
+  const auto remeshAlong = [&](SolvedField field, int maxRuns) -> RunsAlongField& {
+    fields.push_back(
+        std::make_unique<RunsAlongField>(std::move(field), runs, result.timings, runProgress));
+    fields.back()->runUpTo(maxRuns);
+    return *fields.back();
+  };
+  RunsAlongField* chosen = &remeshAlong(std::move(solved), kRunsAlongField);
   // When no lattice along the field kept the input's topology, the field's singularities are
   // likely merged too far for the shape: clustered within d_sing, like-signed ones become nodes
   // of higher index that the parameterization folds around. The field is computed again with
@@ -530,22 +575,22 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   // kLastFieldRuns runs, h shrinking further. Feline at K = 700 to 1100 (d_sing = 6 h) had all
   // runs fold into another topology and came back as its input copied (49,864 vertices); at
   // K = 1000 even 8 runs down to 0.37 h did. At K = 850 the fifth run of the last field keeps it.
+  // A field that comes out as one before (no singularities were as close as d_sing: 60 spheres
+  // at K = 600) would only repeat its runs: the runs along that one go on instead.
   constexpr int kFieldRetries = 2, kLastFieldRuns = 8;
   for (int retry = 1;
-       retry <= kFieldRetries && !chosen.best.topologyKept && !options.dSing && runs.mayRefine;
+       retry <= kFieldRetries && !chosen->best().topologyKept && !options.dSing && runs.mayRefine;
        ++retry) {
     SolvedField finer = computeField(std::ldexp(1.0, -retry));
     context.throwIfCanceled();
-    Remeshing again = remeshAlongField(finer.field, runs,
-                                       retry == kFieldRetries ? kLastFieldRuns : kRunsAlongField,
-                                       result.timings, runProgress);
-    result.sizeIterations += again.runs;
-    if (again.best.betterThan(chosen.best)) {
-      chosen = std::move(again);
-      solved = std::move(finer);
-    }
+    const int maxRuns = retry == kFieldRetries ? kLastFieldRuns : kRunsAlongField;
+    const auto same = std::find_if(fields.begin(), fields.end(), [&](const auto& along) {
+      return sameForLattice(along->solved().field, finer.field);
+    });
+    RunsAlongField& again = same == fields.end() ? remeshAlong(std::move(finer), maxRuns) : **same;
+    again.runUpTo(maxRuns);  // a field remeshed before goes on from its last run
+    if (again.best().betterThan(chosen->best())) chosen = &again;
   }
-  result.singularityDistance = solved.options.singularityDistance;
 
   // Crease lines that meet at angles other than multiples of 60° (a box's 90° corners) cannot all
   // be lattice lines; a field that follows them all twists between them. The field that follows
@@ -562,25 +607,24 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   std::optional<QualityReport> metrics;
   auto start = Clock::now();
   std::optional<RosyField> compatibleField =
-      computeCompatibleCreaseField(mesh, solved.field, solved.options, context);
+      computeCompatibleCreaseField(mesh, chosen->solved().field, chosen->solved().options, context);
   if (compatibleField) {
     addTiming(result.timings, stage::kField, secondsSince(start));
     context.throwIfCanceled();
-    Remeshing compatible =
-        remeshAlongField(*compatibleField, runs, kRunsAlongField, result.timings, runProgress);
-    result.sizeIterations += compatible.runs;
+    RunsAlongField& compatible = remeshAlong(
+        SolvedField{std::move(*compatibleField), chosen->solved().options}, kRunsAlongField);
     // What comes before the shape: the topology, no part lost, the components copied, the
     // vertex count.
-    const auto essentials = [&](const Remeshing& r) {
-      return std::make_tuple(!r.best.topologyKept, !r.best.shapeKept,
-                             r.best.remesh.report.componentsKept,
-                             r.best.countError > kCountTolerance);
+    const auto essentials = [&](const RunsAlongField& along) {
+      const LatticeRun& r = along.best();
+      return std::make_tuple(!r.topologyKept, !r.shapeKept, r.remesh.report.componentsKept,
+                             r.countError > kCountTolerance);
     };
-    bool takeCompatible = essentials(compatible) < essentials(chosen);
-    if (essentials(compatible) == essentials(chosen)) {
+    bool takeCompatible = essentials(compatible) < essentials(*chosen);
+    if (essentials(compatible) == essentials(*chosen)) {
       start = Clock::now();
-      QualityReport all = measureRemesh(chosen.best.remesh, reference);
-      QualityReport fewer = measureRemesh(compatible.best.remesh, reference);
+      QualityReport all = measureRemesh(chosen->best().remesh, reference);
+      QualityReport fewer = measureRemesh(compatible.best().remesh, reference);
       addTiming(result.timings, stage::kMetrics, secondsSince(start));
       const auto toGoals = [&](const QualityReport& q) {
         return q.angleSd / kGoalAngleSd + q.distance->hausdorffPct / kGoalHausdorffPct;
@@ -588,15 +632,15 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
       takeCompatible = toGoals(fewer) < toGoals(all);
       metrics = takeCompatible ? std::move(fewer) : std::move(all);
     }
-    if (takeCompatible) {
-      chosen = std::move(compatible);
-      solved.field = std::move(*compatibleField);
-    }
+    if (takeCompatible) chosen = &compatible;
   }
-  result.singularities = solved.field.singularities;
-  result.warnings = remeshWarnings(chosen, options);
-  Parameterization param = std::move(chosen.best.param);
-  result.remesh = std::move(chosen.best.remesh);
+  result.sizeIterations = 0;
+  for (const auto& along : fields) result.sizeIterations += along->runsMade();
+  result.singularityDistance = chosen->solved().options.singularityDistance;
+  result.singularities = chosen->solved().field.singularities;
+  result.warnings = remeshWarnings(chosen->best(), chosen->misses(), options);
+  Parameterization param = std::move(chosen->best().param);
+  result.remesh = std::move(chosen->best().remesh);
   result.edgeLength = param.edgeLength;
   result.flippedParamTriangles = param.flippedTriangles;
   context.throwIfCanceled();

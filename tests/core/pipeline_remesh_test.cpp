@@ -96,6 +96,34 @@ TEST(PipelineRemesh, RecomputesTheFieldWhenNoLatticeAlongItKeepsTheTopology) {
   EXPECT_LT(result.singularityDistance, 4.0 * result.edgeLength);
 }
 
+// Six spheres of radii 0.3 to 1 (icospheres of 162 vertices, 3 apart) at K = 40: the first
+// lattices fold on the smaller spheres, and the field is computed again with d_sing halved and
+// quartered, but no two singularities on a sphere were within reach of a merge, so each field came
+// out the same and its runs repeated those before (14 runs, 1.5 s). The runs along the first field
+// now go on instead: 6 runs, 0.6 s, the same remesh.
+TEST(PipelineRemesh, DoesNotRepeatTheRunsOfAFieldThatComesOutTheSame) {
+  PolygonSoup input;
+  const std::array radii{0.3, 0.45, 0.6, 0.75, 0.9, 1.0};
+  for (std::size_t k = 0; k < radii.size(); ++k) {
+    const TriMesh sphere = makeIcosphere(2, radii[k]);
+    const int first = static_cast<int>(input.vertexCount());
+    for (const auto v : sphere.vertices())
+      input.positions.push_back(toEigen(sphere.point(v)) + Eigen::Vector3d(3.0 * k, 0.0, 0.0));
+    for (const auto f : sphere.faces()) {
+      std::array<int, 3> corners{};
+      std::transform(f.vertices().begin(), f.vertices().end(), corners.begin(),
+                     [&](const auto v) { return first + v.idx(); });
+      input.addFace(corners);
+    }
+  }
+  RemeshOptions options;
+  options.targetVertices = 40;
+  const RemeshResult result = remesh(input, options);
+  EXPECT_EQ(result.metrics.topology.components, 6);
+  EXPECT_EQ(result.metrics.topology.genus(), 0);
+  EXPECT_LE(result.sizeIterations, 8) << "runs repeated along a field computed again the same";
+}
+
 // The Stanford bunny at K = 3594: the first lattice split a piece off (copied for its topology),
 // and the second, at h 3% smaller, kept the topology, but its strip at a scanned hole in the base
 // narrower than an edge zipped across the hole: a triangle's centroid 1.02 h off the input
