@@ -137,9 +137,12 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     }
   }
   // Copied components keep their vertices and triangles through steps 7 and 8; a remesh made
-  // only of them skips both.
+  // only of them skips both, and so does, when asked, one whose lattice missed a component's
+  // topology (the pipeline redoes it: the fit of 60 spheres' lattices that folded on the small
+  // ones took 4-6 s per run).
   const bool onlyCopies = componentCount > 0 && report.componentsKept == componentCount;
-  if (!onlyCopies) {
+  report.unfinished = !options.finishOtherTopology && report.componentsKeptForTopology > 0;
+  if (!onlyCopies && !report.unfinished) {
     ScopedTimer timer(report.timings, "surface fit");
     context.report(stage::kExtraction, 0.8);
     context.throwIfCanceled();
@@ -182,7 +185,7 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
       report.centredVertices =
           centreIrregularVertices(result.quads, result.triangles, *inputQuery, copied);
     }
-    if (options.sliverAngle > 0.0 && !onlyCopies) {
+    if (options.sliverAngle > 0.0 && !onlyCopies && !report.unfinished) {
       const SliverRepairs done =
           repairSliversBesideSquares(result.triangles, partner, options.sliverAngle,
                                      options.obtuseAngle, options.sharpBoundaryAngle);
@@ -193,7 +196,7 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
     report.mergedTrianglePairs += pairTriangles(result.triangles, partner);
     result.quads = pairSquares(result.triangles, partner);
   }
-  if (inputQuery && !onlyCopies)
+  if (inputQuery && !onlyCopies && !report.unfinished)
     report.farthestCentroid = farthestCentroid(result.triangles, *inputQuery);
   if (!quads) {
     ScopedTimer timer(report.timings, "hexagonal dual");

@@ -47,7 +47,8 @@
 //    component's topology (Euler characteristic, boundary loops, one piece), are copied
 //    unchanged (as given, before any refinement): steps 7 and 8 leave their vertices and
 //    triangles as they are, and are skipped when every component is copied (the output is then
-//    the input as it is).
+//    the input as it is), or, with ExtractOptions::finishOtherTopology off, when one was copied
+//    for its topology.
 // 7. Fit (surface_fit.h): vertices move over the input surface where the lattice cuts off a
 //    sharp crease or tip (feature snapping), next to poor triangles (smoothing) and where the
 //    angles stray from 60° (relaxation), when that does not raise the local deviation from the
@@ -94,6 +95,10 @@ struct ExtractOptions {
   /// Step 7's balancing: interior vertices move off the input along their normal where that
   /// lowers the two-sided deviation (surface_fit.h). Off: every vertex stays on the input.
   bool balanceDeviation = true;
+  /// Steps 7 and 8 also for a remesh with a component copied for its topology (step 6). Off:
+  /// such a remesh, which a caller redoes with another lattice, is left as assembled
+  /// (ExtractionReport::unfinished); extracting it again with this on finishes it.
+  bool finishOtherTopology = true;
   /// Input vertices farther than this many local edge lengths from the remesh pull a remesh
   /// vertex onto themselves (step 7). In [0, 1); 0 disables snapping.
   double featureSnapDistance = 0.35;
@@ -163,6 +168,9 @@ struct ExtractionReport {
   /// Largest distance of an output triangle's centroid from the input surface (model units; 0
   /// without the fit, step 7): a triangle far off it spans a hole or a fold of a strip or fill.
   double farthestCentroid = 0.0;
+  /// Steps 7 and 8 were left out: a component was copied for its topology and
+  /// ExtractOptions::finishOtherTopology is off.
+  bool unfinished = false;
   Timings timings;
 };
 

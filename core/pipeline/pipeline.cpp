@@ -301,6 +301,11 @@ class RunsAlongField {
   /// `maxRuns` runs along the field in all.
   void runUpTo(int maxRuns);
 
+  /// Finishes the best run's remesh if its extraction left it unfinished (its lattice missed a
+  /// component's topology, and no run along the field did better): extracted again with steps 7
+  /// and 8 (ExtractOptions::finishOtherTopology).
+  void finishBest();
+
   const SolvedField& solved() const { return solved_; }
   /// The best run so far; runUpTo has made one at least.
   const LatticeRun& best() const { return *best_; }
@@ -321,6 +326,22 @@ class RunsAlongField {
   double h_;                    ///< of the next run (0: derived from K)
   bool finished_ = false;
 };
+
+void RunsAlongField::finishBest() {
+  LatticeRun& best = *best_;
+  if (!best.remesh.report.unfinished) return;
+  const RunContext context = progress_.next();
+  const auto start = std::chrono::steady_clock::now();
+  ExtractOptions finish = runs_.extractOptions;
+  finish.finishOtherTopology = true;
+  best.remesh = extractRemesh(runs_.mesh, best.param, finish, context, runs_.given);
+  addTiming(timings_, stage::kExtraction, secondsSince(start));
+  if (runs_.targetGiven) {
+    const auto target = static_cast<double>(runs_.target);
+    best.countError =
+        std::abs(static_cast<double>(best.remesh.triangles.n_vertices()) - target) / target;
+  }
+}
 
 void RunsAlongField::runUpTo(int maxRuns) {
   constexpr double kTopologyRetryScale = 0.97;
@@ -549,6 +570,9 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   ExtractOptions extractOptions;
   extractOptions.balanceDeviation = options.placement == VertexPlacement::Balanced;
   extractOptions.creaseAngle = options.featureAngle;
+  // A run whose lattice misses a component's topology is redone: its remesh is finished only
+  // when it is kept after all (RunsAlongField::finishBest).
+  extractOptions.finishOtherTopology = false;
   const LatticeRuns runs{mesh,
                          unrefined ? &*unrefined : nullptr,
                          inputTopology,
@@ -591,6 +615,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
     again.runUpTo(maxRuns);  // a field remeshed before goes on from its last run
     if (again.best().betterThan(chosen->best())) chosen = &again;
   }
+  chosen->finishBest();
 
   // Crease lines that meet at angles other than multiples of 60° (a box's 90° corners) cannot all
   // be lattice lines; a field that follows them all twists between them. The field that follows
@@ -613,6 +638,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
     context.throwIfCanceled();
     RunsAlongField& compatible = remeshAlong(
         SolvedField{std::move(*compatibleField), chosen->solved().options}, kRunsAlongField);
+    compatible.finishBest();
     // What comes before the shape: the topology, no part lost, the components copied, the
     // vertex count.
     const auto essentials = [&](const RunsAlongField& along) {

@@ -17,6 +17,9 @@
 #include "core/geometry/closest_point.h"
 #include "core/mesh/io.h"
 #include "core/mesh/primitives.h"
+#include "core/mesh/repair.h"
+#include "core/param/hexcover.h"
+#include "core/param/sizing.h"
 #include "core/pipeline/pipeline.h"
 #include "tests/common/mesh_measures.h"
 #include "tests/common/quality_floors.h"
@@ -96,32 +99,62 @@ TEST(PipelineRemesh, RecomputesTheFieldWhenNoLatticeAlongItKeepsTheTopology) {
   EXPECT_LT(result.singularityDistance, 4.0 * result.edgeLength);
 }
 
-// Six spheres of radii 0.3 to 1 (icospheres of 162 vertices, 3 apart) at K = 40: the first
-// lattices fold on the smaller spheres, and the field is computed again with d_sing halved and
-// quartered, but no two singularities on a sphere were within reach of a merge, so each field came
-// out the same and its runs repeated those before (14 runs, 1.5 s). The runs along the first field
-// now go on instead: 6 runs, 0.6 s, the same remesh.
-TEST(PipelineRemesh, DoesNotRepeatTheRunsOfAFieldThatComesOutTheSame) {
-  PolygonSoup input;
+// Six spheres of radii 0.3 to 1, icospheres of 162 vertices 3 apart along x.
+PolygonSoup sixSpheres() {
+  PolygonSoup spheres;
   const std::array radii{0.3, 0.45, 0.6, 0.75, 0.9, 1.0};
   for (std::size_t k = 0; k < radii.size(); ++k) {
     const TriMesh sphere = makeIcosphere(2, radii[k]);
-    const int first = static_cast<int>(input.vertexCount());
+    const int first = static_cast<int>(spheres.vertexCount());
     for (const auto v : sphere.vertices())
-      input.positions.push_back(toEigen(sphere.point(v)) + Eigen::Vector3d(3.0 * k, 0.0, 0.0));
+      spheres.positions.push_back(toEigen(sphere.point(v)) + Eigen::Vector3d(3.0 * k, 0.0, 0.0));
     for (const auto f : sphere.faces()) {
       std::array<int, 3> corners{};
       std::transform(f.vertices().begin(), f.vertices().end(), corners.begin(),
                      [&](const auto v) { return first + v.idx(); });
-      input.addFace(corners);
+      spheres.addFace(corners);
     }
   }
+  return spheres;
+}
+
+// The six spheres at K = 40: the first lattices fold on the smaller spheres, and the field is
+// computed again with d_sing halved and quartered, but no two singularities on a sphere were
+// within reach of a merge, so each field came out the same and its runs repeated those before (14
+// runs, 1.5 s). The runs along the first field now go on instead: 6 runs, 0.6 s, the same remesh.
+TEST(PipelineRemesh, DoesNotRepeatTheRunsOfAFieldThatComesOutTheSame) {
   RemeshOptions options;
   options.targetVertices = 40;
-  const RemeshResult result = remesh(input, options);
+  const RemeshResult result = remesh(sixSpheres(), options);
   EXPECT_EQ(result.metrics.topology.components, 6);
   EXPECT_EQ(result.metrics.topology.genus(), 0);
   EXPECT_LE(result.sizeIterations, 8) << "runs repeated along a field computed again the same";
+}
+
+// The six spheres' first lattice (K = 40) misses the topology of some of them, which are copied.
+// The pipeline redoes such a run, so its runs extract with finishOtherTopology off: the remesh is
+// left as assembled, without the surface fit (60 spheres at K = 600: 4-6 s per run). Extracted
+// with it on (the default), the same lattice is fitted.
+TEST(PipelineRemesh, ExtractionLeavesARemeshThatMissedATopologyUnfinishedWhenAsked) {
+  const TriMesh spheres = repairMesh(sixSpheres()).mesh;
+  const double h = edgeLengthForVertexCount(spheres, 40, 6);
+  const RosyField field = computeRosyField(
+      spheres,
+      parameterizationFieldOptions(6, h, kSingularityDistanceInEdges * h, kDefaultFeatureAngle));
+  ParamOptions paramOptions;
+  paramOptions.targetVertices = 40;
+  const Parameterization param = computeParameterization(spheres, field, paramOptions);
+  ExtractOptions options;
+  options.finishOtherTopology = false;
+  const Remesh unfinished = extractRemesh(spheres, param, options);
+  ASSERT_GT(unfinished.report.componentsKeptForTopology, 0);
+  EXPECT_LT(unfinished.report.componentsKept, 6) << "some spheres take the lattice";
+  EXPECT_TRUE(unfinished.report.unfinished);
+  EXPECT_EQ(unfinished.report.relaxedVertices + unfinished.report.featureSnaps, 0);
+  const Remesh finished = extractRemesh(spheres, param);
+  EXPECT_FALSE(finished.report.unfinished);
+  EXPECT_GT(finished.report.relaxedVertices, 0);
+  EXPECT_EQ(finished.report.componentsKeptForTopology, unfinished.report.componentsKeptForTopology);
 }
 
 // The Stanford bunny at K = 3594: the first lattice split a piece off (copied for its topology),
