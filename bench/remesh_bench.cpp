@@ -8,7 +8,7 @@
 // shapes tessellated as CAD exporters write them instead (core/mesh/primitives.h: a cylinder with
 // fans of slivers for caps, a latitude-longitude sphere, a box of 12 triangles, an L-bracket and
 // a plate with a hole, their faces fanned; and two spheres refined towards one pole, one smooth
-// and one bumpy, makeGradedSphere) at K = 300 and
+// and one bumpy, makeGradedSphere; and 60 separate spheres of radii 0.2 to 1) at K = 300 and
 // 3000. --rosy 4 remeshes into quads (the angles are then the quads' corners, the irregular
 // vertices those of valence other than 4). The "repair s" column includes the refinement before
 // the field. The peak memory is the process's over a row's runs (VmHWM reset before each row,
@@ -99,6 +99,28 @@ PolygonSoup subdivided(const PolygonSoup& soup) {
   return out;
 }
 
+/// 60 icospheres of 642 vertices on a 4 × 4 × 4 grid 3 apart, their radii spread over [0.2, 1]:
+/// separate parts of many sizes, where a coarse lattice folds on the small ones.
+PolygonSoup separateSpheres() {
+  constexpr int kSpheres = 60;
+  PolygonSoup soup;
+  for (int k = 0; k < kSpheres; ++k) {
+    const double radius = 0.2 + 0.8 * ((k * 37) % kSpheres) / (kSpheres - 1.0);
+    const TriMesh sphere = makeIcosphere(3, radius);
+    const Eigen::Vector3d centre(3.0 * (k % 4), 3.0 * (k / 4 % 4), 3.0 * (k / 16));
+    const auto first = static_cast<std::uint32_t>(soup.vertexCount());
+    for (const auto v : sphere.vertices())
+      soup.positions.push_back(toEigen(sphere.point(v)) + centre);
+    for (const auto f : sphere.faces()) {
+      std::array<std::uint32_t, 3> corners{};
+      std::transform(f.vertices().begin(), f.vertices().end(), corners.begin(),
+                     [&](const auto v) { return first + static_cast<std::uint32_t>(v.idx()); });
+      soup.addFace(corners);
+    }
+  }
+  return soup;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -138,6 +160,7 @@ int main(int argc, char** argv) {
     inputs.push_back({"bumpy sphere refined towards a pole 120x80",
                       toPolygonSoup(makeGradedSphere(120, 80, 0.1)),
                       {}});
+    inputs.push_back({"60 spheres of radii 0.2-1", separateSpheres(), {}});
     for (auto& input : inputs) input.targets = {300, 3000};
   } else {
     const std::filesystem::path dir = std::filesystem::path(HEXCOVER_SHARED_MESHES) / "clean";
