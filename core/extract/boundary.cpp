@@ -86,8 +86,9 @@ std::vector<std::vector<int>> traceBoundaryLoops(const std::vector<Triangle>& tr
   return loops;
 }
 
-BoundaryIndex::BoundaryIndex(std::vector<std::vector<Eigen::Vector3d>> loops, double cellSize)
-    : loops_(std::move(loops)), cell_(cellSize) {
+BoundaryIndex::BoundaryIndex(std::vector<std::vector<Eigen::Vector3d>> loops, double cellSize,
+                             std::vector<int> loopComponent)
+    : loops_(std::move(loops)), loopComponent_(std::move(loopComponent)), cell_(cellSize) {
   arcs_.reserve(loops_.size());
   for (int i = 0; i < static_cast<int>(loops_.size()); ++i) {
     const auto& loop = loops_[i];
@@ -117,6 +118,19 @@ std::uint64_t BoundaryIndex::cellKey(const Eigen::Vector3d& p) const {
 
 BoundaryIndex::Hit BoundaryIndex::nearest(const Eigen::Vector3d& p, double radius,
                                           int onlyLoop) const {
+  return nearestAdmitted(p, radius, [&](int loop) { return onlyLoop < 0 || loop == onlyLoop; });
+}
+
+BoundaryIndex::Hit BoundaryIndex::nearestInComponent(const Eigen::Vector3d& p, double radius,
+                                                     int component) const {
+  return nearestAdmitted(p, radius, [&](int loop) {
+    return loopComponent_.empty() || loopComponent_[loop] == component;
+  });
+}
+
+template <typename Admit>
+BoundaryIndex::Hit BoundaryIndex::nearestAdmitted(const Eigen::Vector3d& p, double radius,
+                                                  const Admit& admit) const {
   Hit best;
   const int reach = static_cast<int>(std::ceil(radius / cell_));
   for (int dx = -reach; dx <= reach; ++dx)
@@ -125,7 +139,7 @@ BoundaryIndex::Hit BoundaryIndex::nearest(const Eigen::Vector3d& p, double radiu
         const auto it = grid_.find(cellKey(p + cell_ * Eigen::Vector3d(dx, dy, dz)));
         if (it == grid_.end()) continue;
         for (const auto& [loop, k] : it->second) {
-          if (onlyLoop >= 0 && loop != onlyLoop) continue;
+          if (!admit(loop)) continue;
           const auto& points = loops_[loop];
           const Eigen::Vector3d& a = points[k];
           const Eigen::Vector3d& b = points[(k + 1) % points.size()];

@@ -71,8 +71,10 @@ std::vector<std::vector<int>> traceBoundaryLoops(const std::vector<Triangle>& tr
 class BoundaryIndex {
  public:
   /// loops[i]: the points of closed loop i in order (the segment from the last to the first
-  /// point closes it). cellSize > 0: grid spacing (about the query radius).
-  BoundaryIndex(std::vector<std::vector<Eigen::Vector3d>> loops, double cellSize);
+  /// point closes it). cellSize > 0: grid spacing (about the query radius). loopComponent[i]:
+  /// the input component of loop i (empty: one component), for nearestInComponent.
+  BoundaryIndex(std::vector<std::vector<Eigen::Vector3d>> loops, double cellSize,
+                std::vector<int> loopComponent = {});
 
   struct Hit {
     int loop = -1;  ///< -1: nothing within the radius
@@ -81,6 +83,10 @@ class BoundaryIndex {
   };
   /// Nearest point of any loop (or only of `onlyLoop` when ≥ 0) within `radius` of p.
   Hit nearest(const Eigen::Vector3d& p, double radius, int onlyLoop = -1) const;
+  /// Nearest point within `radius` of p of the loops of input component `component`: a lattice
+  /// point's boundary is its own component's (a scan's loose triangles beside or inside a surface
+  /// are not the surface's boundary).
+  Hit nearestInComponent(const Eigen::Vector3d& p, double radius, int component) const;
 
   /// Nearest point of loop i to p, by a scan of the loop's segments.
   Hit nearestOnLoop(const Eigen::Vector3d& p, int i) const;
@@ -105,10 +111,14 @@ class BoundaryIndex {
 
  private:
   std::vector<std::vector<Eigen::Vector3d>> loops_;
+  std::vector<int> loopComponent_;         ///< per loop (empty: one component)
   std::vector<std::vector<double>> arcs_;  ///< per loop: cumulative length at each point, + total
   double cell_;
   std::unordered_map<std::uint64_t, std::vector<std::array<int, 2>>> grid_;  ///< {loop, segment}
   std::uint64_t cellKey(const Eigen::Vector3d& p) const;
+  /// Nearest point within `radius` of p of the loops that `admit(loop)` accepts.
+  template <typename Admit>
+  Hit nearestAdmitted(const Eigen::Vector3d& p, double radius, const Admit& admit) const;
 };
 
 /// Arc-length positions (ascending in [0, loopLength)) of the points of input boundary loop `loop`

@@ -26,7 +26,8 @@
 //    lattice point (two singularities the rounding put on one point), is collapsed when that
 //    makes the valences more regular: a +2/6 cone becomes one valence-4 vertex.
 // 5. Boundary (BoundaryMode::Follow): lattice vertices closer than `boundarySnapDistance` edge
-//    lengths to the input boundary are removed; where the lattice then touches itself at a vertex
+//    lengths to the input boundary of their own component are removed (a scan's loose triangles
+//    beside a surface are not its boundary); where the lattice then touches itself at a vertex
 //    near the boundary (squeezed between two nearby loops), only the vertex's largest fan of
 //    triangles stays, so that no front passes a vertex twice. Each input boundary loop is
 //    resampled (keeping corners sharper than `sharpBoundaryAngle`) and the strip between it and

@@ -648,13 +648,14 @@ void closeBoundaries(const TriMesh& mesh, std::optional<ClosestPointQuery>* inpu
   std::vector<double> h = localEdgeLength(out);
   const double typical = median(std::vector<double>(h.begin(), h.end()));
   if (typical <= 0.0) return;  // no lattice triangles at all
-  const BoundaryIndex index(inputLoops, 2.0 * typical);
+  const BoundaryIndex index(inputLoops, 2.0 * typical, inputLoopComponent);
 
   if (options.boundary == BoundaryMode::Follow && !inputLoops.empty()) {
     std::vector<bool> drop(out.positions.size(), false);
     for (std::size_t v = 0; v < out.positions.size(); ++v) {
       if (h[v] <= 0.0) continue;
-      const auto hit = index.nearest(out.positions[v], options.boundarySnapDistance * h[v]);
+      const auto hit = index.nearestInComponent(
+          out.positions[v], options.boundarySnapDistance * h[v], out.component[v]);
       if (hit.loop >= 0) drop[v] = true, ++report.boundarySnapped;
     }
     removeVertices(out, drop);
@@ -664,7 +665,9 @@ void closeBoundaries(const TriMesh& mesh, std::optional<ClosestPointQuery>* inpu
     std::vector<bool> nearBoundary(out.positions.size(), false);
     for (std::size_t v = 0; v < out.positions.size(); ++v) {
       const double reach = (options.boundarySnapDistance + 2.0) * std::max(h[v], typical);
-      nearBoundary[v] = h[v] > 0.0 && index.nearest(out.positions[v], reach).loop >= 0;
+      nearBoundary[v] =
+          h[v] > 0.0 &&
+          index.nearestInComponent(out.positions[v], reach, out.component[v]).loop >= 0;
     }
     report.pinchedFanTriangles +=
         keepLargestFans(out.triangles, out.positions.size(), nearBoundary);
@@ -681,7 +684,7 @@ void closeBoundaries(const TriMesh& mesh, std::optional<ClosestPointQuery>* inpu
     int near = 0;
     for (const int v : loops[l]) {
       const double reach = (options.boundarySnapDistance + 2.0) * std::max(h[v], typical);
-      const auto hit = index.nearest(out.positions[v], reach);
+      const auto hit = index.nearestInComponent(out.positions[v], reach, out.component[v]);
       if (hit.loop >= 0) ++votes[l][hit.loop], ++near;
     }
     isFront[l] = 2 * near >= static_cast<int>(loops[l].size());

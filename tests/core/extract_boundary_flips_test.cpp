@@ -286,6 +286,22 @@ TEST(BoundaryIndexChords, FindTheLoopPointFarthestFromAChord) {
   EXPECT_EQ(index.farthestFromChord(0, 0.25, 0.75).loop, -1) << "no loop point in between";
 }
 
+// Two unit squares 0.1 apart, of components 0 and 1: a point between them is nearest to the
+// second, but the boundary of a component-0 point is the first square's.
+TEST(BoundaryIndexComponents, FindTheNearestLoopOfAComponent) {
+  const std::vector<Eigen::Vector3d> first = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  std::vector<Eigen::Vector3d> second = first;
+  for (auto& p : second) p.x() += 1.1;
+  const BoundaryIndex index({first, second}, 0.5, {0, 1});
+  const Eigen::Vector3d between(1.08, 0.5, 0.0);
+  EXPECT_EQ(index.nearest(between, 0.5).loop, 1);
+  EXPECT_EQ(index.nearestInComponent(between, 0.5, 1).loop, 1);
+  const BoundaryIndex::Hit own = index.nearestInComponent(between, 0.5, 0);
+  EXPECT_EQ(own.loop, 0);
+  EXPECT_NEAR(own.distance, 0.08, 1e-12);
+  EXPECT_EQ(index.nearestInComponent(between, 0.05, 0).loop, -1) << "only the other's is as near";
+}
+
 // A loop that bulges 0.4 spacings out between two corners, with a sample on the bulge's tip and
 // a front vertex off to the left: the angles alone would slide the sample 0.34 spacings down
 // the bulge's right side, and its edge from the left corner would cut 0.27 spacings into the
