@@ -591,6 +591,8 @@ long long collapseBoundarySlivers(TriMesh& mesh, double belowDegrees, double str
         interiorAngle += angleAt(point(v), point(g.from()), point(g.next().to()));
     }
     if (std::abs(interiorAngle - 180.0) <= straightWithin) return true;
+    // A convex corner turning by more than twice that is a corner of the input: it stays.
+    if (interiorAngle < 180.0 - 2.0 * straightWithin) return false;
     const auto out = v.halfedge();  // the boundary halfedge leaving v
     const auto other = out.to() == h.to() ? out.prev().from() : out.to();
     const Eigen::Vector3d a = point(other), chord = point(h.to()) - a;

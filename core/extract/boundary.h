@@ -200,7 +200,9 @@ long long flipBoundarySlivers(TriMesh& mesh, double belowDegrees, double aboveDe
 /// the smallest angle of its remaining triangles is largest, when that is larger than before and no
 /// triangle turns by more than 60° (up to 3 passes). Where the input boundary curls in a lip
 /// narrower than an edge length, the strip fans from one lattice vertex to boundary samples
-/// almost in line with it; fewer samples make fewer slivers. A vertex of a face marked by `fixed`
+/// almost in line with it; fewer samples make fewer slivers. A convex corner whose boundary turns
+/// by more than 2 · `straightWithin` never moves: a loose triangle's 32.7° corner went into a
+/// sample 0.3 edge lengths away, cut off. A vertex of a face marked by `fixed`
 /// (as in flipBoundarySlivers) stays. Returns the number of collapses; garbage-collects `mesh`
 /// after any (its properties move along).
 long long collapseBoundarySlivers(
