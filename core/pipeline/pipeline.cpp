@@ -272,6 +272,13 @@ std::vector<std::string> remeshWarnings(const LatticeRun& run, int misses,
   return warnings;
 }
 
+/// |V − K| / K of a remesh of V vertices, 0 when K was not asked for.
+double countError(const Remesh& remesh, const LatticeRuns& runs) {
+  if (!runs.targetGiven) return 0.0;
+  const auto target = static_cast<double>(runs.target);
+  return std::abs(static_cast<double>(remesh.triangles.n_vertices()) - target) / target;
+}
+
 /// Parameterization and extraction along a field, run by run (runUpTo). With a target vertex
 /// count, h is rescaled by sqrt(V / K) until the remesh is within 8% of K (the promise is 10%). A
 /// remesh whose topology differs from the repaired input's (fold-overs that neither the
@@ -336,11 +343,7 @@ void RunsAlongField::finishBest() {
   finish.finishOtherTopology = true;
   best.remesh = extractRemesh(runs_.mesh, best.param, finish, context, runs_.given);
   addTiming(timings_, stage::kExtraction, secondsSince(start));
-  if (runs_.targetGiven) {
-    const auto target = static_cast<double>(runs_.target);
-    best.countError =
-        std::abs(static_cast<double>(best.remesh.triangles.n_vertices()) - target) / target;
-  }
+  best.countError = countError(best.remesh, runs_);
 }
 
 void RunsAlongField::runUpTo(int maxRuns) {
@@ -402,7 +405,7 @@ void RunsAlongField::runUpTo(int maxRuns) {
     current.slivered =
         field.n == 6 && report.componentsKept == 0 && hasSliver(current.remesh.triangles);
     const double vertices = static_cast<double>(current.remesh.triangles.n_vertices());
-    if (runs.targetGiven) current.countError = std::abs(vertices - target) / target;
+    current.countError = countError(current.remesh, runs);
     // The vertices of a remesh that lost a part do not measure h for the whole input either.
     // A run after a flaw keeps its h within the promise: a rescale would take it back.
     const double tolerance = flawRetries_ > 0 ? kCountPromise : kCountTolerance;
