@@ -106,17 +106,8 @@ PolygonSoup separateSpheres() {
   PolygonSoup soup;
   for (int k = 0; k < kSpheres; ++k) {
     const double radius = 0.2 + 0.8 * ((k * 37) % kSpheres) / (kSpheres - 1.0);
-    const TriMesh sphere = makeIcosphere(3, radius);
     const Eigen::Vector3d centre(3.0 * (k % 4), 3.0 * (k / 4 % 4), 3.0 * (k / 16));
-    const auto first = static_cast<std::uint32_t>(soup.vertexCount());
-    for (const auto v : sphere.vertices())
-      soup.positions.push_back(toEigen(sphere.point(v)) + centre);
-    for (const auto f : sphere.faces()) {
-      std::array<std::uint32_t, 3> corners{};
-      std::transform(f.vertices().begin(), f.vertices().end(), corners.begin(),
-                     [&](const auto v) { return first + static_cast<std::uint32_t>(v.idx()); });
-      soup.addFace(corners);
-    }
+    appendToPolygonSoup(soup, makeIcosphere(3, radius), centre);
   }
   return soup;
 }

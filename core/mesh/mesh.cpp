@@ -20,17 +20,22 @@ double boundingBoxDiagonal(const TriMesh& mesh) {
 
 PolygonSoup toPolygonSoup(const TriMesh& mesh) {
   PolygonSoup soup;
-  soup.positions.reserve(mesh.n_vertices());
-  for (const auto vh : mesh.vertices()) soup.positions.push_back(toEigen(mesh.point(vh)));
-  soup.faceStarts.reserve(mesh.n_faces() + 1);
-  soup.cornerVertices.reserve(3 * mesh.n_faces());
+  appendToPolygonSoup(soup, mesh);
+  return soup;
+}
+
+void appendToPolygonSoup(PolygonSoup& soup, const TriMesh& mesh, const Eigen::Vector3d& offset) {
+  const auto first = static_cast<int>(soup.vertexCount());
+  soup.positions.reserve(soup.positions.size() + mesh.n_vertices());
+  for (const auto vh : mesh.vertices()) soup.positions.push_back(toEigen(mesh.point(vh)) + offset);
+  soup.faceStarts.reserve(soup.faceStarts.size() + mesh.n_faces());
+  soup.cornerVertices.reserve(soup.cornerVertices.size() + 3 * mesh.n_faces());
   for (const auto fh : mesh.faces()) {
     std::array<int, 3> corners{};
     int i = 0;
-    for (const auto vh : fh.vertices()) corners[i++] = vh.idx();
+    for (const auto vh : fh.vertices()) corners[i++] = first + vh.idx();
     soup.addFace(corners);
   }
-  return soup;
 }
 
 SoupEdges soupEdges(const PolygonSoup& soup) {

@@ -63,6 +63,11 @@ double boundingBoxDiagonal(const TriMesh& mesh);
 /// The mesh as a polygon soup (triangles, no texture coordinates), vertex and face order kept.
 PolygonSoup toPolygonSoup(const TriMesh& mesh);
 
+/// Appends the mesh to `soup` as further vertices (moved by `offset`) and triangles, in the mesh's
+/// order: one more part of a soup of several.
+void appendToPolygonSoup(PolygonSoup& soup, const TriMesh& mesh,
+                         const Eigen::Vector3d& offset = Eigen::Vector3d::Zero());
+
 /// The distinct edges of a polygon soup's faces, in the order the faces first use them (face by
 /// face, side by side), each as its two vertices in that first side's direction, with the number
 /// of face sides on it (1: a boundary edge).

@@ -588,13 +588,13 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   LatticeRunProgress runProgress(context);
   // Every field remeshed, with its runs; `chosen` is the one whose best run is kept.
   std::vector<std::unique_ptr<RunsAlongField>> fields;
-  const auto remeshAlong = [&](SolvedField field, int maxRuns) -> RunsAlongField& {
+  const auto addField = [&](SolvedField field) -> RunsAlongField& {
     fields.push_back(
         std::make_unique<RunsAlongField>(std::move(field), runs, result.timings, runProgress));
-    fields.back()->runUpTo(maxRuns);
     return *fields.back();
   };
-  RunsAlongField* chosen = &remeshAlong(std::move(solved), kRunsAlongField);
+  RunsAlongField* chosen = &addField(std::move(solved));
+  chosen->runUpTo(kRunsAlongField);
   // When no lattice along the field kept the input's topology, the field's singularities are
   // likely merged too far for the shape: clustered within d_sing, like-signed ones become nodes
   // of higher index that the parameterization folds around. The field is computed again with
@@ -614,7 +614,7 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
     const auto same = std::find_if(fields.begin(), fields.end(), [&](const auto& along) {
       return sameForLattice(along->solved().field, finer.field);
     });
-    RunsAlongField& again = same == fields.end() ? remeshAlong(std::move(finer), maxRuns) : **same;
+    RunsAlongField& again = same == fields.end() ? addField(std::move(finer)) : **same;
     again.runUpTo(maxRuns);  // a field remeshed before goes on from its last run
     if (again.best().betterThan(chosen->best())) chosen = &again;
   }
@@ -639,8 +639,9 @@ RemeshResult remesh(const PolygonSoup& input, const RemeshOptions& options,
   if (compatibleField) {
     addTiming(result.timings, stage::kField, secondsSince(start));
     context.throwIfCanceled();
-    RunsAlongField& compatible = remeshAlong(
-        SolvedField{std::move(*compatibleField), chosen->solved().options}, kRunsAlongField);
+    RunsAlongField& compatible =
+        addField(SolvedField{std::move(*compatibleField), chosen->solved().options});
+    compatible.runUpTo(kRunsAlongField);
     compatible.finishBest();
     // What comes before the shape: the topology, no part lost, the components copied, the
     // vertex count.

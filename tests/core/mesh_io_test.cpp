@@ -429,6 +429,31 @@ PolygonSoup polygonSample() {
   return soup;
 }
 
+// A soup of two parts: the second mesh's vertices follow the first's, moved by the offset, and
+// its triangles refer to them.
+TEST(PolygonSoupParts, AppendedMeshFollowsTheSoupMovedByItsOffset) {
+  const TriMesh torus = makeTorus(3, 1, 12, 8);
+  PolygonSoup soup = polygonSample();
+  const PolygonSoup before = soup;
+  const Eigen::Vector3d offset(10.0, -2.0, 0.5);
+  appendToPolygonSoup(soup, torus, offset);
+  const PolygonSoup alone = toPolygonSoup(torus);
+  ASSERT_EQ(soup.vertexCount(), before.vertexCount() + alone.vertexCount());
+  ASSERT_EQ(soup.faceCount(), before.faceCount() + alone.faceCount());
+  for (std::size_t v = 0; v < alone.vertexCount(); ++v)
+    EXPECT_EQ(soup.positions[before.vertexCount() + v], alone.positions[v] + offset);
+  for (std::size_t f = 0; f < alone.faceCount(); ++f) {
+    ASSERT_EQ(soup.faceSize(before.faceCount() + f), 3u);
+    for (std::size_t k = 0; k < 3; ++k)
+      EXPECT_EQ(soup.cornerVertices[soup.faceStarts[before.faceCount() + f] + k],
+                alone.cornerVertices[alone.faceStarts[f] + k] + before.vertexCount());
+  }
+  EXPECT_EQ(std::vector<std::uint32_t>(soup.cornerVertices.begin(),
+                                       soup.cornerVertices.begin() + before.cornerVertices.size()),
+            before.cornerVertices)
+      << "the first part stays as it was";
+}
+
 TEST(MeshWriters, ObjOffAndPlyRoundTripsAreExact) {
   const TempDir dir;
   for (const PolygonSoup& original : {toPolygonSoup(makeIcosphere(2, 1.7)),

@@ -103,18 +103,8 @@ TEST(PipelineRemesh, RecomputesTheFieldWhenNoLatticeAlongItKeepsTheTopology) {
 PolygonSoup sixSpheres() {
   PolygonSoup spheres;
   const std::array radii{0.3, 0.45, 0.6, 0.75, 0.9, 1.0};
-  for (std::size_t k = 0; k < radii.size(); ++k) {
-    const TriMesh sphere = makeIcosphere(2, radii[k]);
-    const int first = static_cast<int>(spheres.vertexCount());
-    for (const auto v : sphere.vertices())
-      spheres.positions.push_back(toEigen(sphere.point(v)) + Eigen::Vector3d(3.0 * k, 0.0, 0.0));
-    for (const auto f : sphere.faces()) {
-      std::array<int, 3> corners{};
-      std::transform(f.vertices().begin(), f.vertices().end(), corners.begin(),
-                     [&](const auto v) { return first + v.idx(); });
-      spheres.addFace(corners);
-    }
-  }
+  for (std::size_t k = 0; k < radii.size(); ++k)
+    appendToPolygonSoup(spheres, makeIcosphere(2, radii[k]), Eigen::Vector3d(3.0 * k, 0.0, 0.0));
   return spheres;
 }
 
@@ -155,6 +145,18 @@ TEST(PipelineRemesh, ExtractionLeavesARemeshThatMissedATopologyUnfinishedWhenAsk
   EXPECT_FALSE(finished.report.unfinished);
   EXPECT_GT(finished.report.relaxedVertices, 0);
   EXPECT_EQ(finished.report.componentsKeptForTopology, unfinished.report.componentsKeptForTopology);
+}
+
+// The six spheres at h = 0.65 given (so no finer lattice is tried): every run copies a sphere for
+// its topology, and the run kept is one that was extracted unfinished; the pipeline finishes it.
+TEST(PipelineRemesh, FinishesAKeptRunThatWasExtractedUnfinished) {
+  RemeshOptions options;
+  options.edgeLength = 0.65;
+  const RemeshResult result = remesh(sixSpheres(), options);
+  ASSERT_GT(result.remesh.report.componentsKeptForTopology, 0);
+  EXPECT_FALSE(result.remesh.report.unfinished);
+  EXPECT_GT(result.remesh.report.relaxedVertices, 0) << "the remesh was fitted";
+  EXPECT_EQ(result.metrics.topology.components, 6);
 }
 
 // A sphere with 20 loose triangles 0.01 across, 0.02 off its surface (a scan's debris): the
