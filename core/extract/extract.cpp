@@ -141,7 +141,9 @@ Remesh extractRemesh(const TriMesh& mesh, const Parameterization& param,
   // topology (the pipeline redoes it: the fit of 60 spheres' lattices that folded on the small
   // ones took 4-6 s per run).
   const bool onlyCopies = componentCount > 0 && report.componentsKept == componentCount;
-  report.unfinished = !options.finishOtherTopology && report.componentsKeptForTopology > 0;
+  // (A remesh made only of copies is finished as it is: extracting it again would change nothing.)
+  report.unfinished =
+      !onlyCopies && !options.finishOtherTopology && report.componentsKeptForTopology > 0;
   if (!onlyCopies && !report.unfinished) {
     ScopedTimer timer(report.timings, "surface fit");
     context.report(stage::kExtraction, 0.8);

@@ -170,7 +170,8 @@ struct ExtractionReport {
   /// without the fit, step 7): a triangle far off it spans a hole or a fold of a strip or fill.
   double farthestCentroid = 0.0;
   /// Steps 7 and 8 were left out: a component was copied for its topology and
-  /// ExtractOptions::finishOtherTopology is off.
+  /// ExtractOptions::finishOtherTopology is off (never when every component was copied: such a
+  /// remesh has no steps 7 and 8 to finish).
   bool unfinished = false;
   Timings timings;
 };
