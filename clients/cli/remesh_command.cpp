@@ -101,6 +101,7 @@ nlohmann::json metricsDocument(const RemeshResult& result) {
                         {"farthest_centroid", r.farthestCentroid},
                         {"components_kept", r.componentsKept},
                         {"components_kept_for_topology", r.componentsKeptForTopology},
+                        {"kept_vertices", r.keptVertices},
                         {"components", r.components},
                         {"feature_snaps", r.featureSnaps},
                         {"smoothed_vertices", r.smoothedVertices},

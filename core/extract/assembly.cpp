@@ -403,6 +403,7 @@ void keepComponentsTooSmallForTheLattice(const TriMesh& mesh, const TriMesh& giv
     out.triangles.push_back(copied);
   }
   for (int c = 0; c < componentCount; ++c) report.componentsKept += keep[c] ? 1 : 0;
+  report.keptVertices = std::count_if(copy.begin(), copy.end(), [](int v) { return v >= 0; });
 }
 
 TriMesh buildMesh(const Assembly& out, ExtractionReport& report, std::vector<VH>& handle) {

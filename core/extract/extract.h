@@ -149,6 +149,7 @@ struct ExtractionReport {
   long long pinchedFanTriangles = 0;
   long long components = 0;              ///< components of the input (connected through edges)
   long long componentsKept = 0;  ///< input components too small for the lattice (step 6), copied
+  long long keptVertices = 0;    ///< the vertices of those components
   /// Of those, components with lattice triangles enough whose triangles did not have the
   /// component's topology (BoundaryMode::Follow): another lattice (edge length) may fit.
   long long componentsKeptForTopology = 0;

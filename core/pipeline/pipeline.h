@@ -34,7 +34,8 @@ struct RemeshOptions {
   /// Target edge length in model units. At most one of edgeLength and targetVertices is set;
   /// with neither, the target is a quarter of the input's vertex count.
   std::optional<double> edgeLength;
-  /// Target number of output vertices (the result is within 10% of it).
+  /// Target number of output vertices (the result is within 10% of it, not counting the vertices
+  /// of components too small for the lattice, which are kept as they are and come on top).
   std::optional<long long> targetVertices;
   /// 6: triangles (Eisenstein lattice); 4: quads (Gauss lattice).
   int rosy = 6;
