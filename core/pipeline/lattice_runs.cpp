@@ -1,0 +1,214 @@
+#include "core/pipeline/lattice_runs.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "core/geometry/closest_point.h"
+#include "core/geometry/frames.h"
+#include "core/param/hexcover.h"
+
+namespace hexcover::pipeline_detail {
+namespace {
+
+/// An input vertex farther than this many of the coarsest lattice units from the remesh is on a
+/// part of the input that the lattice lost: a limb thinner than it, folded away in the
+/// parameterization and closed by the extraction's hole filling, which keeps the topology.
+/// Measured: feline's arm at K = 650, 2.9 units (Hausdorff distance 13%); a finger of a sphere
+/// at K = 200 and 400, 4.3 and 1.2 units (31% and 6.2%); every kept shape of the clean meshes at
+/// K = V/4 to V/64, 0.02-0.7 units.
+constexpr double kLostShapeInEdges = 1.0;
+/// The input vertices checked for a lost part: every k-th, at most about this many.
+constexpr std::size_t kShapeCheckVertices = 10000;
+
+/// The largest distance from `input`'s vertices (every k-th of them, at most about
+/// kShapeCheckVertices) to `remesh`, 0 for a remesh without faces.
+double farthestInputVertex(const TriMesh& input, const TriMesh& remesh) {
+  if (remesh.n_faces() == 0) return 0.0;
+  const ClosestPointQuery query(remesh);
+  const std::size_t stride = std::max<std::size_t>(1, input.n_vertices() / kShapeCheckVertices);
+  double farthest = 0.0;
+  for (std::size_t i = 0; i < input.n_vertices(); i += stride) {
+    const auto v = input.vertex_handle(static_cast<int>(i));
+    if (!input.is_isolated(v))
+      farthest = std::max(farthest, query.closest(toEigen(input.point(v))).distance);
+  }
+  return farthest;
+}
+
+/// A remesh triangle whose centroid is farther than this many of the coarsest lattice units from
+/// the input spans a hole or a fold: a strip zipped across a scanned hole narrower than an edge
+/// (the Stanford bunny's base at K = 3594: 1.0 units, Hausdorff distance 2.7%; at K = 2500:
+/// 0.64 units, 1.7%). Every other remesh of the clean meshes at K = V/4 to V/64 and of the bunny
+/// at K = 2000 to 9000: at most 0.58 units (the bunny at K = 2250, Hausdorff distance 1.67%,
+/// whose runs at h 3% off were no better).
+constexpr double kStrayCentroidInEdges = 0.6;
+/// A remesh with an angle outside [kSliverDegrees, kBluntDegrees] has a sliver well beyond the
+/// floors of 20° and 130°, which another lattice may not have. Of 185 remeshes (the clean
+/// meshes at K = V/4 to V/64, the Stanford bunny at K = 2000 to 9000) three had one: the bunny
+/// at K = 1123 (13.1-147.1°, a fan of slivers where the strip meets its base's holes) and venus
+/// at K = 11 (8.0°) are redone without (21.8-115.0°, 25.2-100.7°), the bunny at K = 6500 is not.
+/// With the floors' bounds instead, 18 more would be redone, at 1-3 runs each, for 2 better.
+constexpr double kSliverDegrees = 15.0;
+constexpr double kBluntDegrees = 140.0;
+/// Runs after one that kept the topology, the shape and the count but has a flaw (a triangle
+/// off the input, kStrayCentroidInEdges, or a sliver, kSliverDegrees), with h 3% off: the
+/// lattice falls differently.
+constexpr int kFlawRetries = 2;
+
+/// Whether a triangle of `mesh` has an angle below kSliverDegrees or above kBluntDegrees.
+bool hasSliver(const TriMesh& mesh) {
+  constexpr double kDegrees = 180.0 / M_PI;
+  const std::vector<double> angles = cornerAngles(mesh);
+  return std::any_of(mesh.halfedges_begin(), mesh.halfedges_end(), [&](const auto h) {
+    if (mesh.is_boundary(h)) return false;
+    const double degrees = angles[h.idx()] * kDegrees;
+    return degrees < kSliverDegrees || degrees > kBluntDegrees;
+  });
+}
+
+}  // namespace
+
+void addTiming(Timings& timings, const std::string& step, double seconds) {
+  for (auto& t : timings)
+    if (t.step == step) {
+      t.seconds += seconds;
+      return;
+    }
+  timings.push_back({step, seconds});
+}
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+bool sameForLattice(const RosyField& a, const RosyField& b) {
+  const auto sameSingularity = [](const Singularity& s, const Singularity& t) {
+    return s.vertex == t.vertex && s.index == t.index && s.onBoundary == t.onBoundary;
+  };
+  return a.n == b.n && a.faceDirection == b.faceDirection && a.edgeMatching == b.edgeMatching &&
+         a.sharpEdges == b.sharpEdges &&
+         std::equal(a.singularities.begin(), a.singularities.end(), b.singularities.begin(),
+                    b.singularities.end(), sameSingularity);
+}
+
+double countedVertices(const Remesh& remesh) {
+  const auto all = static_cast<long long>(remesh.triangles.n_vertices());
+  const long long kept = remesh.report.keptVertices;
+  return static_cast<double>(kept < all ? all - kept : all);
+}
+
+double countError(const Remesh& remesh, const LatticeRuns& runs) {
+  if (!runs.targetGiven) return 0.0;
+  const auto target = static_cast<double>(runs.target);
+  return std::abs(countedVertices(remesh) - target) / target;
+}
+
+void RunsAlongField::finishBest() {
+  LatticeRun& best = *best_;
+  if (!best.remesh.report.unfinished) return;
+  const RunContext context = progress_.next();
+  const auto start = std::chrono::steady_clock::now();
+  ExtractOptions finish = runs_.extractOptions;
+  finish.finishOtherTopology = true;
+  best.remesh = extractRemesh(runs_.mesh, best.param, finish, context, runs_.given);
+  addTiming(timings_, stage::kExtraction, secondsSince(start));
+  best.countError = countError(best.remesh, runs_);
+}
+
+void RunsAlongField::runUpTo(int maxRuns) {
+  constexpr double kTopologyRetryScale = 0.97;
+  constexpr double kCoarseTopologyScale = 0.85;
+  using Clock = std::chrono::steady_clock;
+  const LatticeRuns& runs = runs_;
+  const RosyField& field = solved_.field;
+  const auto target = static_cast<double>(runs.target);
+  const auto taken = [&](double next) {
+    return std::any_of(triedH_.begin(), triedH_.end(),
+                       [&](double t) { return std::abs(t - next) < 0.005 * next; });
+  };
+  // The coarsest lattice unit is h / (smallest sizing).
+  const double coarsest =
+      runs.sizing.empty() ? 1.0 : 1.0 / *std::min_element(runs.sizing.begin(), runs.sizing.end());
+  while (!finished_ && runCount_ < maxRuns) {
+    const int run = ++runCount_;
+    const RunContext context = progress_.next();
+    auto start = Clock::now();
+    ParamOptions paramOptions;
+    // The first run without an edge length derives h from the target (the parameterization
+    // corrects it for its conformal scale); later runs rescale the h it used.
+    if (run == 1 && !runs.edgeLength)
+      paramOptions.targetVertices = static_cast<int>(runs.target);
+    else
+      paramOptions.edgeLength = h_;
+    paramOptions.vertexSizing = runs.sizing;
+    LatticeRun current;
+    current.param = computeParameterization(runs.mesh, field, paramOptions, context);
+    h_ = current.param.edgeLength;
+    triedH_.push_back(h_);
+    addTiming(timings_, stage::kParameterization, secondsSince(start));
+    context.throwIfCanceled();
+
+    start = Clock::now();
+    current.remesh =
+        extractRemesh(runs.mesh, current.param, runs.extractOptions, context, runs.given);
+    addTiming(timings_, stage::kExtraction, secondsSince(start));
+    // A component copied because its lattice triangles had another topology counts as a
+    // topology miss, and so does, when the lattice may be refined, a remesh that is the input
+    // copied whole (no component took the lattice): their vertices do not measure h, and the
+    // next run takes the topology step.
+    const ExtractionReport& report = current.remesh.report;
+    const bool copiedWhole = report.components > 0 && report.componentsKept == report.components;
+    const bool latticeTooCoarse =
+        report.componentsKeptForTopology > 0 || (runs.mayRefine && copiedWhole);
+    current.topologyKept =
+        !latticeTooCoarse && computeTopology(current.remesh.triangles).sameAs(runs.inputTopology);
+    if (current.topologyKept) {
+      current.farthestInput = farthestInputVertex(runs.mesh, current.remesh.triangles);
+      current.shapeKept = current.farthestInput <= kLostShapeInEdges * coarsest * h_;
+    }
+    const bool kept = current.topologyKept && current.shapeKept;
+    current.strayed = report.farthestCentroid > kStrayCentroidInEdges * coarsest * h_;
+    // A component copied unchanged has the input's triangles, slivers and all: no other lattice
+    // changes them. Triangles only: a quad remesh's triangles are halves of quads, whose corners
+    // run to 143° (redone for them, feline's quads took 19.8 s instead of 9.8 s).
+    current.slivered =
+        field.n == 6 && report.componentsKept == 0 && hasSliver(current.remesh.triangles);
+    const double vertices = countedVertices(current.remesh);
+    current.countError = countError(current.remesh, runs);
+    // The vertices of a remesh that lost a part do not measure h for the whole input either.
+    // A run after a flaw keeps its h within the promise: a rescale would take it back.
+    const double tolerance = flawRetries_ > 0 ? kCountPromise : kCountTolerance;
+    const bool rescale =
+        current.countError > tolerance && vertices > 0.0 && !latticeTooCoarse && current.shapeKept;
+    const bool done = kept && !rescale;
+    misses_ += kept ? 0 : 1;
+    if (!best_ || current.betterThan(*best_)) best_ = std::move(current);
+    // Runs beyond kRunsAlongField only look for the topology, not for the vertex count.
+    const bool shapeFound = best_->topologyKept && best_->shapeKept;
+    const bool retryFlaw = done && best_->flawed() && flawRetries_ < kFlawRetries;
+    finished_ = (done && !retryFlaw) || (run >= kRunsAlongField && shapeFound);
+    if (finished_) return;
+    // A flaw's step goes towards K (fewer vertices when there are more than asked for).
+    const double step = retryFlaw
+                            ? (runs.targetGiven && vertices > target ? 1.0 / kTopologyRetryScale
+                                                                     : kTopologyRetryScale)
+                        : rescale                       ? std::sqrt(vertices / target)
+                        : misses_ > 1 && runs.mayRefine ? kCoarseTopologyScale
+                                                        : kTopologyRetryScale;
+    double next = h_ * step;
+    // After a flaw the runs step back and forth, never onto an h already taken: a flaw's step
+    // turns round, a rescale goes half-way (and again), a topology step one step further.
+    if (retryFlaw) {
+      ++flawRetries_;
+      if (taken(next)) next = h_ / step;
+    } else if (flawRetries_ > 0 && rescale) {
+      while (taken(next) && std::abs(next - h_) > 0.01 * h_) next = 0.5 * (next + h_);
+    } else if (flawRetries_ > 0) {
+      while (taken(next)) next *= step;
+    }
+    h_ = next;
+  }
+}
+
+}  // namespace hexcover::pipeline_detail
