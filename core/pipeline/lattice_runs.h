@@ -4,8 +4,11 @@
 // shape or has a flaw, the best run kept. Internal to core/pipeline (pipeline.cpp runs them).
 
 #include <chrono>
+#include <cmath>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "core/common/run_context.h"
