@@ -92,16 +92,16 @@ bool sameForLattice(const RosyField& a, const RosyField& b) {
                     b.singularities.end(), sameSingularity);
 }
 
-double countedVertices(const Remesh& remesh) {
+long long countedVertices(const Remesh& remesh) {
   const auto all = static_cast<long long>(remesh.triangles.n_vertices());
   const long long kept = remesh.report.keptVertices;
-  return static_cast<double>(kept < all ? all - kept : all);
+  return kept < all ? all - kept : all;
 }
 
 double countError(const Remesh& remesh, const LatticeRuns& runs) {
   if (!runs.targetGiven) return 0.0;
   const auto target = static_cast<double>(runs.target);
-  return std::abs(countedVertices(remesh) - target) / target;
+  return std::abs(static_cast<double>(countedVertices(remesh)) - target) / target;
 }
 
 void RunsAlongField::finishBest() {
@@ -174,7 +174,7 @@ void RunsAlongField::runUpTo(int maxRuns) {
     // run to 143° (redone for them, feline's quads took 19.8 s instead of 9.8 s).
     current.slivered =
         field.n == 6 && report.componentsKept == 0 && hasSliver(current.remesh.triangles);
-    const double vertices = countedVertices(current.remesh);
+    const auto vertices = static_cast<double>(countedVertices(current.remesh));
     current.countError = countError(current.remesh, runs);
     // The vertices of a remesh that lost a part do not measure h for the whole input either.
     // A run after a flaw keeps its h within the promise: a rescale would take it back.

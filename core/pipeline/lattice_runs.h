@@ -120,7 +120,7 @@ bool sameForLattice(const RosyField& a, const RosyField& b);
 /// component kept as it is (too small for the lattice: a scan's loose triangles) brings its own
 /// vertices on top; counted, they would starve the rest (bunny_7k with 300 loose triangles,
 /// 900 vertices, at K = 871: 263 vertices of bunny). All of them when every component was kept.
-double countedVertices(const Remesh& remesh);
+long long countedVertices(const Remesh& remesh);
 
 /// |V − K| / K of a remesh of V counted vertices (countedVertices), 0 when K was not asked for.
 double countError(const Remesh& remesh, const LatticeRuns& runs);

@@ -81,7 +81,7 @@ std::vector<std::string> remeshWarnings(const LatticeRun& run, int misses,
   std::vector<std::string> warnings;
   const long long copied = run.remesh.report.componentsKept;
   const auto all = static_cast<long long>(run.remesh.triangles.n_vertices());
-  const auto counted = static_cast<long long>(countedVertices(run.remesh));
+  const long long counted = countedVertices(run.remesh);
   if (copied > 0) {
     std::ostringstream text;
     text << copied << (copied == 1 ? " input component was" : " input components were")

@@ -179,15 +179,20 @@ PolygonSoup sphereWithDebris(int debris) {
   return input;
 }
 
+/// The sphere with `debris` loose triangles remeshed to `target` vertices.
+RemeshResult remeshSphereWithDebris(int debris, long long target) {
+  RemeshOptions options;
+  options.targetVertices = target;
+  return remesh(sphereWithDebris(debris), options);
+}
+
 // The sphere with 20 loose triangles: the lattice vertices within half an edge of their
 // boundaries were taken for the sphere's boundary and removed, and the sphere, full of holes, was
 // copied as it was with the debris (702 vertices at any K). A lattice vertex's boundary is now its
 // own component's: the sphere is remeshed and the debris kept.
 TEST(PipelineRemesh, RemeshesASurfaceWithLooseTrianglesBesideIt) {
   constexpr int kDebris = 20;
-  RemeshOptions options;
-  options.targetVertices = 1000;
-  const RemeshResult result = remesh(sphereWithDebris(kDebris), options);
+  const RemeshResult result = remeshSphereWithDebris(kDebris, 1000);
   EXPECT_EQ(result.remesh.report.componentsKept, kDebris);
   EXPECT_EQ(result.remesh.report.componentsKeptForTopology, 0);
   EXPECT_EQ(result.metrics.topology.components, kDebris + 1);
@@ -201,9 +206,7 @@ TEST(PipelineRemesh, RemeshesASurfaceWithLooseTrianglesBesideIt) {
 // what the kept components add.
 TEST(PipelineRemesh, CountsTheVerticesOfComponentsKeptAsTheyAreOnTopOfK) {
   constexpr int kDebris = 100;
-  RemeshOptions options;
-  options.targetVertices = 300;
-  const RemeshResult result = remesh(sphereWithDebris(kDebris), options);
+  const RemeshResult result = remeshSphereWithDebris(kDebris, 300);
   ASSERT_EQ(result.remesh.report.componentsKept, kDebris);
   EXPECT_EQ(result.remesh.report.keptVertices, 3 * kDebris);
   const auto sphereVertices = static_cast<double>(result.remesh.triangles.n_vertices()) -
