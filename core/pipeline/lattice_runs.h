@@ -134,7 +134,9 @@ double countError(const Remesh& remesh, const LatticeRuns& runs);
 /// few edge lengths), and h then shrinks by 15% per run when h comes from a vertex count K below
 /// half the input's vertices. A remesh that keeps all that but has a triangle off the input
 /// (kStrayCentroidInEdges) or a sliver (kSliverDegrees) is redone with h 3% off, towards K, up
-/// to kFlawRetries times. The best run is kept (LatticeRun::betterThan). So a vertex count too
+/// to kFlawRetries times (a retry that misses the topology or shape is one of them). No run is
+/// made between a lattice that kept the topology and shape and a coarser one that missed them:
+/// the runs end there. The best run is kept (LatticeRun::betterThan). So a vertex count too
 /// small for the shape gives a remesh with more vertices (and a warning that says why) rather
 /// than the input copied unchanged (fertility at K = 218: 353 vertices; the input has 13,971)
 /// or without a limb.
@@ -175,8 +177,12 @@ class RunsAlongField {
   int runCount_ = 0;
   int misses_ = 0;
   int flawRetries_ = 0;
-  std::vector<double> triedH_;  ///< the h of each run
-  double h_;                    ///< of the next run (0: derived from K)
+  struct TriedLattice {
+    double h;
+    bool keptShape;  ///< the input's topology and shape (LatticeRun::topologyKept, shapeKept)
+  };
+  std::vector<TriedLattice> tried_;  ///< each run's h and outcome
+  double h_;                         ///< of the next run (0: derived from K)
   bool finished_ = false;
 };
 

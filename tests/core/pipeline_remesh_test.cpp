@@ -99,6 +99,30 @@ TEST(PipelineRemesh, RecomputesTheFieldWhenNoLatticeAlongItKeepsTheTopology) {
   EXPECT_LT(result.singularityDistance, 4.0 * result.edgeLength);
 }
 
+// fertility at K = 218: the first two lattices (h₀, 0.97 h₀) missed its genus, the third
+// (0.82 h₀) kept it with 323 vertices, and the rescale towards K went back to about h₀ and missed
+// again (four runs). A rescale between a lattice that kept the shape and one that missed it now
+// goes half-way, and only when that can bring the count within the promise: here it cannot.
+TEST(PipelineRemesh, DoesNotRescaleBackOntoALatticeThatMissedTheTopology) {
+  HEXCOVER_SHARED_MESH_OR_SKIP(path, "clean/fertility_28k.obj");
+  const RemeshResult result = remeshToVertexCount(path, 218);
+  EXPECT_EQ(result.sizeIterations, 3);
+  EXPECT_TRUE(result.metrics.topologyMatchesReference.value_or(false));
+  EXPECT_EQ(result.remesh.report.componentsKept, 0);
+}
+
+// Schwarz P at K = 183: the first lattice kept the shape with 238 vertices; the rescale towards
+// K missed it, and so did the topology step after it; the next step kept it with 260 vertices
+// (four runs, the first kept). No topology step is now made above a lattice that kept the shape.
+TEST(PipelineRemesh, EndsTheRunsAboveALatticeThatKeptTheTopology) {
+  HEXCOVER_SHARED_MESH_OR_SKIP(path, "clean/schwarzp_cell_open.obj");
+  const RemeshResult result = remeshToVertexCount(path, 183);
+  EXPECT_EQ(result.sizeIterations, 2);
+  EXPECT_TRUE(result.metrics.topologyMatchesReference.value_or(false));
+  ASSERT_TRUE(result.metrics.distance.has_value());
+  EXPECT_LT(result.metrics.distance->hausdorffPct, 1.0);
+}
+
 // Six spheres of radii 0.3 to 1, icospheres of 162 vertices 3 apart along x.
 PolygonSoup sixSpheres() {
   PolygonSoup spheres;
