@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 #include <utility>
 
 #include "core/geometry/closest_point.h"
@@ -59,15 +60,17 @@ constexpr int kFlawRetries = 2;
 /// Two h within this fraction of each other are the same lattice for the runs.
 constexpr double kSameH = 0.005;
 
-/// Whether a triangle of `mesh` has an angle below kSliverDegrees or above kBluntDegrees.
-bool hasSliver(const TriMesh& mesh) {
+/// The smallest and largest corner angle of `mesh`'s triangles, in degrees.
+std::pair<double, double> angleRangeDegrees(const TriMesh& mesh) {
   constexpr double kDegrees = 180.0 / M_PI;
   const std::vector<double> angles = cornerAngles(mesh);
-  return std::any_of(mesh.halfedges_begin(), mesh.halfedges_end(), [&](const auto h) {
-    if (mesh.is_boundary(h)) return false;
-    const double degrees = angles[h.idx()] * kDegrees;
-    return degrees < kSliverDegrees || degrees > kBluntDegrees;
-  });
+  std::pair<double, double> range{180.0, 0.0};
+  for (const auto h : mesh.halfedges()) {
+    if (mesh.is_boundary(h)) continue;
+    range.first = std::min(range.first, angles[h.idx()] * kDegrees);
+    range.second = std::max(range.second, angles[h.idx()] * kDegrees);
+  }
+  return range;
 }
 
 }  // namespace
@@ -188,8 +191,12 @@ void RunsAlongField::runUpTo(int maxRuns) {
     // A component copied unchanged has the input's triangles, slivers and all: no other lattice
     // changes them. Triangles only: a quad remesh's triangles are halves of quads, whose corners
     // run to 143° (redone for them, feline's quads took 19.8 s instead of 9.8 s).
-    current.slivered =
-        field.n == 6 && report.componentsKept == 0 && hasSliver(current.remesh.triangles);
+    if (field.n == 6 && report.componentsKept == 0) {
+      std::tie(current.smallestAngle, current.largestAngle) =
+          angleRangeDegrees(current.remesh.triangles);
+      current.slivered =
+          current.smallestAngle < kSliverDegrees || current.largestAngle > kBluntDegrees;
+    }
     const auto vertices = static_cast<double>(countedVertices(current.remesh));
     current.countError = countError(current.remesh, runs);
     // The vertices of a remesh that lost a part do not measure h for the whole input either.

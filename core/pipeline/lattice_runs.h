@@ -42,6 +42,8 @@ struct LatticeRun {
   double farthestInput = 0.0;  ///< largest distance from the input's vertices to the remesh
   bool strayed = false;        ///< a triangle off the input (kStrayCentroidInEdges)
   bool slivered = false;       ///< a sliver (kSliverDegrees, kBluntDegrees)
+  double smallestAngle = 0.0;  ///< of its triangles, in degrees, when checked for slivers
+  double largestAngle = 0.0;
   double countError = 0.0;     ///< |V − K| / K, 0 without a target count
 
   bool flawed() const { return strayed || slivered; }

@@ -109,6 +109,25 @@ std::vector<std::string> remeshWarnings(const LatticeRun& run, int misses,
          << "); more vertices or a smaller edge length keep it";
     warnings.push_back(text.str());
   }
+  // Flaws the runs could not avoid: LatticeRun::betterThan puts the topology, the shape and the
+  // vertex count first.
+  if (run.slivered) {
+    std::ostringstream text;
+    text << "the remesh has angles of " << std::setprecision(3) << run.smallestAngle << "° to "
+         << run.largestAngle
+         << "°: a sliver where the lattice meets a boundary, a crease or a fold, which the "
+            "runs could not avoid at this vertex count; a slightly different vertex count or "
+            "edge length may avoid it";
+    warnings.push_back(text.str());
+  }
+  if (run.strayed) {
+    std::ostringstream text;
+    text << "a triangle of the remesh lies off the input (its centroid " << std::setprecision(2)
+         << run.remesh.report.farthestCentroid / h
+         << " edge lengths away: a strip across a hole or a gap narrower than an edge); a "
+            "slightly different vertex count or edge length may avoid it";
+    warnings.push_back(text.str());
+  }
   if (options.targetVertices && run.countError > kCountPromise) {
     const bool moreForShape = misses > 0 && copied == 0 && counted > *options.targetVertices;
     warnings.push_back("the remesh has " + std::to_string(counted) + " vertices" +

@@ -106,7 +106,8 @@ struct RemeshResult {
   double peakMemoryMiB = 0.0;
   /// What a user may want to act on, one sentence each: input components copied unchanged,
   /// fold-overs the extraction had to fill, a part of the input lost by a lattice too coarse for
-  /// it, a vertex count more than 10% off the target.
+  /// it, a sliver or a triangle off the input that the runs could not avoid, a vertex count more
+  /// than 10% off the target.
   std::vector<std::string> warnings;
 };
 
