@@ -233,7 +233,7 @@ void RunsAlongField::runUpTo(int maxRuns) {
     // them, a rescale goes half-way (geometrically, and again onto an h not taken), and only
     // when that can bring the count within the promise; a topology step is not made (the runs
     // end with the best). Measured on the clean meshes at V/4 to V/64, the Stanford bunny at
-    // K = 2000 to 9000 and generated shapes at K = 300 to 6000 (173 remeshes): past the miss the
+    // K = 2000 to 9000 and generated shapes at K = 300 to 6000 (175 remeshes): past the miss the
     // rescales and steps missed again (fertility at K = 218 rescaled from 323 vertices back to
     // the h that missed), and the runs that kept the shape near it were worse (fertility at
     // K = 436: 539 instead of 624 vertices but Hausdorff distance 2.10% instead of 1.27%, an

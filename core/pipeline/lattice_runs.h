@@ -136,10 +136,11 @@ double countError(const Remesh& remesh, const LatticeRuns& runs);
 /// few edge lengths), and h then shrinks by 15% per run when h comes from a vertex count K below
 /// half the input's vertices. A remesh that keeps all that but has a triangle off the input
 /// (kStrayCentroidInEdges) or a sliver (kSliverDegrees) is redone with h 3% off, towards K, up
-/// to kFlawRetries times (a retry that misses the topology or shape is one of them). No run is
-/// made between a lattice that kept the topology and shape and a coarser one that missed them:
-/// the runs end there. The best run is kept (LatticeRun::betterThan). So a vertex count too
-/// small for the shape gives a remesh with more vertices (and a warning that says why) rather
+/// to kFlawRetries times (a retry that misses the topology or shape is one of them). Between a
+/// lattice that kept the topology and shape and a coarser one that missed them, a rescale goes
+/// half-way only when the count it expects is within the promise, and no topology step is made:
+/// otherwise the runs end there. The best run is kept (LatticeRun::betterThan). So a vertex count
+/// too small for the shape gives a remesh with more vertices (and a warning that says why) rather
 /// than the input copied unchanged (fertility at K = 218: 353 vertices; the input has 13,971)
 /// or without a limb.
 /// The runs can go on later (runUpTo a larger count): a field computed again that comes out the
