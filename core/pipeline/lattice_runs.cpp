@@ -122,6 +122,11 @@ void RunsAlongField::finishBest() {
   best.countError = countError(best.remesh, runs_);
 }
 
+int RunsAlongField::misses() const {
+  return static_cast<int>(std::count_if(tried_.begin(), tried_.end(),
+                                        [](const TriedLattice& t) { return !t.keptShape; }));
+}
+
 void RunsAlongField::runUpTo(int maxRuns) {
   constexpr double kTopologyRetryScale = 0.97;
   constexpr double kCoarseTopologyScale = 0.85;
@@ -150,8 +155,8 @@ void RunsAlongField::runUpTo(int maxRuns) {
   // The coarsest lattice unit is h / (smallest sizing).
   const double coarsest =
       runs.sizing.empty() ? 1.0 : 1.0 / *std::min_element(runs.sizing.begin(), runs.sizing.end());
-  while (!finished_ && runCount_ < maxRuns) {
-    const int run = ++runCount_;
+  while (!finished_ && runsMade() < maxRuns) {
+    const int run = runsMade() + 1;
     const RunContext context = progress_.next();
     auto start = Clock::now();
     ParamOptions paramOptions;
@@ -205,7 +210,6 @@ void RunsAlongField::runUpTo(int maxRuns) {
     const bool rescale =
         current.countError > tolerance && vertices > 0.0 && !latticeTooCoarse && current.shapeKept;
     const bool done = kept && !rescale;
-    misses_ += kept ? 0 : 1;
     tried_.push_back({h_, kept});
     if (!best_ || current.betterThan(*best_)) best_ = std::move(current);
     // Runs beyond kRunsAlongField only look for the topology, not for the vertex count. A run
@@ -253,7 +257,7 @@ void RunsAlongField::runUpTo(int maxRuns) {
       finished_ = true;
     } else {
       const double topologyStep =
-          misses_ > 1 && runs.mayRefine ? kCoarseTopologyScale : kTopologyRetryScale;
+          misses() > 1 && runs.mayRefine ? kCoarseTopologyScale : kTopologyRetryScale;
       next = h_ * topologyStep;
       // After a flaw a topology step goes one step further, never onto an h already taken.
       if (flawRetries_ > 0)

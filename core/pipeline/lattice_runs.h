@@ -168,8 +168,8 @@ class RunsAlongField {
   /// The best run so far; runUpTo has made one at least.
   const LatticeRun& best() const { return *best_; }
   LatticeRun& best() { return *best_; }
-  int runsMade() const { return runCount_; }
-  int misses() const { return misses_; }  ///< runs that did not keep the input's topology or shape
+  int runsMade() const { return static_cast<int>(tried_.size()); }
+  int misses() const;  ///< runs that did not keep the input's topology or shape
 
  private:
   SolvedField solved_;
@@ -177,8 +177,6 @@ class RunsAlongField {
   Timings& timings_;
   LatticeRunProgress& progress_;
   std::optional<LatticeRun> best_;
-  int runCount_ = 0;
-  int misses_ = 0;
   int flawRetries_ = 0;
   struct TriedLattice {
     double h;
