@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <utility>
 #include <vector>
@@ -321,6 +322,79 @@ TriMesh makePlateWithHole(double side, double holeRadius, double thickness, int 
     const TriMesh::Point outward = mesh.point(corner[0][k]) + mesh.point(corner[0][l]);
     addQuadFacing(mesh, corner[0][k], corner[0][l], corner[1][l], corner[1][k], outward);
   }
+  return mesh;
+}
+
+TriMesh makeSchwarzPCell(int n) {
+  const auto value = [](const Eigen::Vector3d& p) {
+    return std::cos(p.x()) + std::cos(p.y()) + std::cos(p.z());
+  };
+  // (n + 1)³ grid points 2π/n apart, half a spacing off the lattice of multiples of 2π/n: on
+  // that lattice cos x = 0 and cos y = −cos z meet, and cuts through grid points would give
+  // degenerate triangles.
+  const auto gridPoint = [n](int i, int j, int k) {
+    const auto at = [n](int g) { return -M_PI + 2.0 * M_PI * (g - 0.5) / n; };
+    return Eigen::Vector3d(at(i), at(j), at(k));
+  };
+  const auto gridIndex = [n](int i, int j, int k) {
+    return (static_cast<std::int64_t>(i) * (n + 1) + j) * (n + 1) + k;
+  };
+  TriMesh mesh;
+  // One vertex per grid edge that the surface crosses, where the linear interpolant is zero.
+  std::map<std::pair<std::int64_t, std::int64_t>, VH> crossing;
+  const auto vertexOn = [&](const std::array<int, 3>& a, const std::array<int, 3>& b) {
+    const std::int64_t ia = gridIndex(a[0], a[1], a[2]), ib = gridIndex(b[0], b[1], b[2]);
+    const auto key = std::make_pair(std::min(ia, ib), std::max(ia, ib));
+    if (const auto it = crossing.find(key); it != crossing.end()) return it->second;
+    const Eigen::Vector3d pa = gridPoint(a[0], a[1], a[2]), pb = gridPoint(b[0], b[1], b[2]);
+    const double fa = value(pa), fb = value(pb);
+    const VH v = mesh.add_vertex(toOpenMesh(pa + fa / (fa - fb) * (pb - pa)));
+    crossing.emplace(key, v);
+    return v;
+  };
+  constexpr std::array<std::array<int, 3>, 8> kCorner = {
+      {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}}};
+  constexpr std::array<std::array<int, 4>, 6> kTetrahedra = {
+      {{0, 5, 1, 6}, {0, 1, 2, 6}, {0, 2, 3, 6}, {0, 3, 7, 6}, {0, 7, 4, 6}, {0, 4, 5, 6}}};
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k)
+        for (const auto& tetrahedron : kTetrahedra) {
+          std::vector<std::array<int, 3>> inside, outside;
+          for (const int c : tetrahedron) {
+            const std::array<int, 3> g{i + kCorner[c][0], j + kCorner[c][1], k + kCorner[c][2]};
+            (value(gridPoint(g[0], g[1], g[2])) < 0.0 ? inside : outside).push_back(g);
+          }
+          if (inside.empty() || outside.empty()) continue;
+          // The triangle or quad where the surface cuts the tetrahedron (a, b, c, d) = (inside
+          // corners, then outside ones), ordered by the sign of det(b − a, c − a, d − a) on the
+          // grid's integers so that it faces the outside corners, towards positive values. (The
+          // cut's own normal is noise where it passes next to a grid point.)
+          std::vector<std::array<int, 3>> corners = inside;
+          corners.insert(corners.end(), outside.begin(), outside.end());
+          const auto along = [&](int e, int axis) { return corners[e][axis] - corners[0][axis]; };
+          const int det = along(1, 0) * (along(2, 1) * along(3, 2) - along(2, 2) * along(3, 1)) -
+                          along(1, 1) * (along(2, 0) * along(3, 2) - along(2, 2) * along(3, 0)) +
+                          along(1, 2) * (along(2, 0) * along(3, 1) - along(2, 1) * along(3, 0));
+          // With det > 0 the cuts (ab, ac, ad) around a and (da, db, dc) around d face a's way
+          // out and d's way in (det(a − d, b − d, c − d) = −det), and the quad (ac, ad, bd, bc)
+          // faces from {a, b} to {c, d}: all towards the outside corners.
+          const auto add = [&](VH x, VH y, VH z) {
+            det > 0 ? mesh.add_face(x, y, z) : mesh.add_face(x, z, y);
+          };
+          if (inside.size() == 2) {
+            const VH q0 = vertexOn(inside[0], outside[0]), q1 = vertexOn(inside[0], outside[1]),
+                     q2 = vertexOn(inside[1], outside[1]), q3 = vertexOn(inside[1], outside[0]);
+            add(q0, q1, q2);
+            add(q0, q2, q3);
+          } else {
+            const auto& apex = corners[inside.size() == 1 ? 0 : 3];
+            std::vector<VH> cut;
+            for (const auto& other : corners)
+              if (&other != &apex) cut.push_back(vertexOn(apex, other));
+            add(cut[0], cut[1], cut[2]);
+          }
+        }
   return mesh;
 }
 

@@ -58,4 +58,12 @@ TriMesh makeLBracket(double arm, double width, double thickness);
 /// thickness. Genus 1 (χ = 0); the rims of the caps are creases of 90°.
 TriMesh makePlateWithHole(double side, double holeRadius, double thickness, int holeSegments);
 
+/// A cell of Schwarz's P minimal surface, cos x + cos y + cos z = 0, by marching tetrahedra on
+/// an n³ grid of cubes 2π/n wide over [−π − π/n, π + π/n]³ (six tetrahedra per cube around its
+/// diagonal): an open surface of genus 0 whose six boundary loops lie on the grid's faces
+/// (χ = −4), facing towards positive cos x + cos y + cos z. About 11 n² vertices. n should not be
+/// a multiple of 3: then grid points with coordinates 2π/3 apart lie on the surface exactly
+/// (cos a + cos(a + 2π/3) + cos(a − 2π/3) = 0), and the cuts through them are degenerate.
+TriMesh makeSchwarzPCell(int n);
+
 }  // namespace hexcover

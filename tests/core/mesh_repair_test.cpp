@@ -83,7 +83,8 @@ TEST(MeshValidation, CleanGeneratedMeshesHaveTheirKnownTopology) {
   const Case cases[] = {{"icosphere", makeIcosphere(3), 2, 0, 0},
                         {"torus", makeTorus(3, 1, 24, 12), 0, 0, 1},
                         {"tube", makeTube(1, 3, 20, 8), 0, 2, 0},
-                        {"grid", makeEquilateralGrid(10, 8), 1, 1, 0}};
+                        {"grid", makeEquilateralGrid(10, 8), 1, 1, 0},
+                        {"Schwarz P cell", makeSchwarzPCell(20), -4, 6, 0}};
   for (const auto& c : cases) {
     SCOPED_TRACE(c.name);
     const MeshStatistics s = validateMesh(toPolygonSoup(c.mesh)).input;
@@ -96,6 +97,21 @@ TEST(MeshValidation, CleanGeneratedMeshesHaveTheirKnownTopology) {
     EXPECT_EQ(s.componentTopology[0].genus, c.genus);
     EXPECT_TRUE(s.componentTopology[0].manifold);
     expectManifoldAndOriented(s);
+  }
+}
+
+// The marching tetrahedra orient every cut by the grid's integer determinants: each triangle
+// faces towards positive cos x + cos y + cos z, i.e. along its gradient (−sin x, −sin y, −sin z),
+// and none is degenerate (n = 47, as the remesh tests use it).
+TEST(MeshValidation, SchwarzPCellFacesAlongTheGradient) {
+  const TriMesh cell = makeSchwarzPCell(47);
+  for (const auto f : cell.faces()) {
+    const auto h = f.halfedge();
+    const TriMesh::Point a = cell.point(h.from()), b = cell.point(h.to()),
+                         c = cell.point(h.next().to());
+    const TriMesh::Point centre = (a + b + c) / 3.0;
+    const TriMesh::Point gradient(-std::sin(centre[0]), -std::sin(centre[1]), -std::sin(centre[2]));
+    EXPECT_GT(((b - a) % (c - a)) | gradient, 0.0) << "face " << f.idx() << " at " << centre;
   }
 }
 
