@@ -131,6 +131,15 @@ bool stitchFrontByValence(const BoundaryIndex& index, int loop, int component,
   // triangles around the corner share the distortion.
   std::vector<bool> corner(m, false);
   std::vector<double> shift(m, 0.0);
+  // A sample of its own (a corner's, or one splitting a chord) becomes sample `at`: arc, corner
+  // and shift stay parallel, and the front vertices' first samples after it move up by one.
+  const auto insertSample = [&](int at, double arcAt, bool isCorner) {
+    arc.insert(arc.begin() + at, arcAt);
+    corner.insert(corner.begin() + at, isCorner);
+    shift.insert(shift.begin() + at, 0.0);
+    for (int& f : first) f += f >= at ? 1 : 0;
+    ++m;
+  };
   // Corners in loop order from arc[0], each on the nearest sample after the previous corner's.
   std::vector<double> turns;
   const std::vector<double> cornerArcs =
@@ -177,11 +186,7 @@ bool stitchFrontByValence(const BoundaryIndex& index, int loop, int component,
         (squares || !(index.farthestFromChord(loop, arc[atIndex - 1], arc[atIndex]).distance >
                       kOwnSampleCornerCut * spacing)))
       continue;
-    arc.insert(arc.begin() + atIndex, at);
-    corner.insert(corner.begin() + atIndex, true);
-    shift.insert(shift.begin() + atIndex, 0.0);
-    for (int& f : first) f += f >= atIndex ? 1 : 0;
-    ++m;
+    insertSample(atIndex, at, true);
     next = atIndex + 1;
   }
   std::vector<double> moved(arc.begin(), arc.begin() + m);
@@ -235,13 +240,8 @@ bool stitchFrontByValence(const BoundaryIndex& index, int loop, int component,
     };
     int pieces = 1;
     while (pieces < kMaxChordPieces && strays(pieces)) ++pieces;
-    if (!fanKeepsAngles(pieces)) pieces = 1;
-    for (int i = 1; i < pieces; ++i) {
-      arc.insert(arc.begin() + k + i, piece(i, pieces));
-      corner.insert(corner.begin() + k + i, false);
-      for (int& f : first) f += f >= k + i ? 1 : 0;
-      ++m;
-    }
+    if (pieces > 1 && !fanKeepsAngles(pieces)) pieces = 1;
+    for (int i = 1; i < pieces; ++i) insertSample(k + i, piece(i, pieces), false);
     k += pieces - 1;
   }
   std::vector<int> sample(m);

@@ -339,6 +339,14 @@ TriMesh makeSchwarzPCell(int n) {
   const auto gridIndex = [n](int i, int j, int k) {
     return (static_cast<std::int64_t>(i) * (n + 1) + j) * (n + 1) + k;
   };
+  // The function at every grid point, once (each is a corner of up to 24 tetrahedra).
+  std::vector<double> values(static_cast<std::size_t>(n + 1) * (n + 1) * (n + 1));
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j)
+      for (int k = 0; k <= n; ++k) values[gridIndex(i, j, k)] = value(gridPoint(i, j, k));
+  const auto valueAt = [&](const std::array<int, 3>& g) {
+    return values[gridIndex(g[0], g[1], g[2])];
+  };
   TriMesh mesh;
   // One vertex per grid edge that the surface crosses, where the linear interpolant is zero.
   std::map<std::pair<std::int64_t, std::int64_t>, VH> crossing;
@@ -347,7 +355,7 @@ TriMesh makeSchwarzPCell(int n) {
     const auto key = std::make_pair(std::min(ia, ib), std::max(ia, ib));
     if (const auto it = crossing.find(key); it != crossing.end()) return it->second;
     const Eigen::Vector3d pa = gridPoint(a[0], a[1], a[2]), pb = gridPoint(b[0], b[1], b[2]);
-    const double fa = value(pa), fb = value(pb);
+    const double fa = valueAt(a), fb = valueAt(b);
     const VH v = mesh.add_vertex(toOpenMesh(pa + fa / (fa - fb) * (pb - pa)));
     crossing.emplace(key, v);
     return v;
@@ -363,7 +371,7 @@ TriMesh makeSchwarzPCell(int n) {
           std::vector<std::array<int, 3>> inside, outside;
           for (const int c : tetrahedron) {
             const std::array<int, 3> g{i + kCorner[c][0], j + kCorner[c][1], k + kCorner[c][2]};
-            (value(gridPoint(g[0], g[1], g[2])) < 0.0 ? inside : outside).push_back(g);
+            (valueAt(g) < 0.0 ? inside : outside).push_back(g);
           }
           if (inside.empty() || outside.empty()) continue;
           // The triangle or quad where the surface cuts the tetrahedron (a, b, c, d) = (inside
